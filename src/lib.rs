@@ -1,0 +1,30 @@
+//! spar: a renderer of polarized light in cut gems and birefringent crystals.
+//!
+//! The crate is layered so that a reader can find any piece of physics fast:
+//!
+//! - [`spectrum`]: wavelength sampling, CIE colour matching, colour spaces,
+//!   RGB → spectrum. No optics, no geometry.
+//! - [`material`]: dispersion models and the catalogue of built-in media
+//!   (cited Sellmeier data). Evaluates to an [`optics::Medium`] at one
+//!   wavelength.
+//! - [`optics`]: conventions, coherence matrices, Fresnel, the uniaxial
+//!   eigenwaves and the interface solver. Imports nothing from the scene,
+//!   the acceleration structures or the native libraries.
+//! - [`accel`]: the ray–triangle intersection trait and its backends.
+//! - [`native`]: the only module with `unsafe`: safe wrappers over Embree 3
+//!   and the OpenImageIO shim in `spar-sys`.
+//! - [`image`]: writing and reading images (OpenImageIO when built with the
+//!   `native` feature).
+//! - [`geometry`]: meshes and their loading.
+//! - [`cli`]: the command line.
+#![deny(unsafe_code)]
+
+pub mod accel;
+pub mod cli;
+pub mod geometry;
+pub mod image;
+pub mod material;
+#[cfg(feature = "native")]
+pub mod native;
+pub mod optics;
+pub mod spectrum;
