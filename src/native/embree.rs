@@ -1,0 +1,1 @@
+//! Embree safe wrapper (work in progress).

@@ -1,0 +1,1 @@
+//! OpenImageIO safe wrapper (work in progress).

@@ -1,0 +1,226 @@
+//! Build logic for spar-sys: bindings to Embree 3 (bindgen) and the C++ shim
+//! over OpenImageIO (cc).
+//!
+//! Each library is found through a ladder, first rung that works wins:
+//!
+//! Embree 3 (Debian ships no pkg-config file for it):
+//!   1. `EMBREE_DIR`: a prefix with `include/embree3/rtcore.h` and
+//!      `lib/libembree3.so` (or `lib64/`);
+//!   2. pkg-config `embree3`, for distributions that ship one;
+//!   3. the system default (`/usr/include`, the linker's search path).
+//!
+//! OpenImageIO:
+//!   1. `OIIO_DIR`: a prefix with `include/OpenImageIO/` and `lib/`;
+//!   2. pkg-config `OpenImageIO` (Debian's `libopenimageio-dev`).
+//!
+//! When a rung fails the build stops with a message that names the Debian
+//! package to install. The link directories are passed on to dependent
+//! crates as `DEP_EMBREE3_LIB_DIRS` (see spar's own `build.rs`, which adds
+//! an rpath for libraries outside the system directories).
+
+use std::env;
+use std::path::{Path, PathBuf};
+
+const DEBIAN_HINT_EMBREE: &str = "install Embree 3 (Debian/Ubuntu: `apt-get install libembree-dev`) \
+     or set EMBREE_DIR to a prefix containing include/embree3/rtcore.h";
+const DEBIAN_HINT_OIIO: &str = "install OpenImageIO (Debian/Ubuntu: `apt-get install libopenimageio-dev`) \
+     or set OIIO_DIR to a prefix containing include/OpenImageIO/imageio.h";
+
+/// Where a native library's headers and shared objects are.
+struct Found {
+    include_dirs: Vec<PathBuf>,
+    lib_dirs: Vec<PathBuf>,
+}
+
+fn main() {
+    println!("cargo:rerun-if-env-changed=EMBREE_DIR");
+    println!("cargo:rerun-if-env-changed=OIIO_DIR");
+    println!("cargo:rerun-if-changed=shim/oiio_shim.cpp");
+    println!("cargo:rerun-if-changed=shim/oiio_shim.h");
+    println!("cargo:rerun-if-changed=wrapper.h");
+
+    let embree = find_embree().unwrap_or_else(|e| fail(&e));
+    check_embree_version(&embree).unwrap_or_else(|e| fail(&e));
+    generate_embree_bindings(&embree);
+    for dir in &embree.lib_dirs {
+        println!("cargo:rustc-link-search=native={}", dir.display());
+    }
+    println!("cargo:rustc-link-lib=dylib=embree3");
+
+    let oiio = find_oiio().unwrap_or_else(|e| fail(&e));
+    build_oiio_shim(&oiio);
+
+    // Metadata for dependents (`links = "embree3"` makes these visible as
+    // DEP_EMBREE3_*): where the shared objects live, for rpath hints.
+    let all_lib_dirs: Vec<String> = embree
+        .lib_dirs
+        .iter()
+        .chain(oiio.lib_dirs.iter())
+        .map(|p| p.display().to_string())
+        .collect();
+    println!("cargo:lib_dirs={}", all_lib_dirs.join(":"));
+}
+
+fn fail(message: &str) -> ! {
+    eprintln!("\nspar-sys: {message}\n");
+    panic!("spar-sys: {message}");
+}
+
+/// Ladder for Embree 3: EMBREE_DIR, pkg-config, system default.
+fn find_embree() -> Result<Found, String> {
+    // Rung 1: explicit override.
+    if let Some(prefix) = env::var_os("EMBREE_DIR") {
+        let prefix = PathBuf::from(prefix);
+        let include = prefix.join("include");
+        if !include.join("embree3/rtcore.h").is_file() {
+            return Err(format!(
+                "EMBREE_DIR={} has no include/embree3/rtcore.h; {DEBIAN_HINT_EMBREE}",
+                prefix.display()
+            ));
+        }
+        let lib_dirs = ["lib", "lib64"]
+            .iter()
+            .map(|d| prefix.join(d))
+            .filter(|d| d.is_dir())
+            .collect();
+        return Ok(Found {
+            include_dirs: vec![include],
+            lib_dirs,
+        });
+    }
+    // Rung 2: pkg-config, where a distribution ships embree3.pc.
+    if let Ok(lib) = pkg_config::Config::new()
+        .cargo_metadata(false)
+        .probe("embree3")
+    {
+        return Ok(Found {
+            include_dirs: lib.include_paths,
+            lib_dirs: lib.link_paths,
+        });
+    }
+    // Rung 3: the system default.
+    for include in ["/usr/include", "/usr/local/include"] {
+        if Path::new(include).join("embree3/rtcore.h").is_file() {
+            return Ok(Found {
+                include_dirs: vec![PathBuf::from(include)],
+                lib_dirs: Vec::new(),
+            });
+        }
+    }
+    Err(format!("Embree 3 headers not found; {DEBIAN_HINT_EMBREE}"))
+}
+
+/// Embree 4 ships under the same Debian package name with another API.
+fn check_embree_version(found: &Found) -> Result<(), String> {
+    for dir in &found.include_dirs {
+        let config = dir.join("embree3/rtcore_config.h");
+        if let Ok(text) = std::fs::read_to_string(&config) {
+            let major = text
+                .lines()
+                .find_map(|l| l.strip_prefix("#define RTC_VERSION_MAJOR "))
+                .map(|v| v.trim().to_string());
+            return match major.as_deref() {
+                Some("3") => Ok(()),
+                Some(v) => Err(format!(
+                    "{} says Embree version {v}; spar needs Embree 3 (3.13). {DEBIAN_HINT_EMBREE}",
+                    config.display()
+                )),
+                None => Err(format!(
+                    "cannot read RTC_VERSION_MAJOR from {}",
+                    config.display()
+                )),
+            };
+        }
+    }
+    Err(format!(
+        "embree3/rtcore_config.h not found; {DEBIAN_HINT_EMBREE}"
+    ))
+}
+
+fn generate_embree_bindings(found: &Found) {
+    let mut builder = bindgen::Builder::default()
+        .header("wrapper.h")
+        .allowlist_function("rtc.*")
+        .allowlist_type("RTC.*")
+        .allowlist_var("RTC.*")
+        .rustified_enum("RTCError")
+        .rustified_enum("RTCFormat")
+        .rustified_enum("RTCGeometryType")
+        .rustified_enum("RTCBufferType")
+        .rustified_enum("RTCBuildQuality")
+        .rustified_enum("RTCDeviceProperty")
+        .bitfield_enum("RTCSceneFlags")
+        .bitfield_enum("RTCIntersectContextFlags")
+        .derive_default(true)
+        .layout_tests(true)
+        .parse_callbacks(Box::new(bindgen::CargoCallbacks::new()));
+    for dir in &found.include_dirs {
+        builder = builder.clang_arg(format!("-I{}", dir.display()));
+    }
+    let bindings = builder.generate().unwrap_or_else(|e| {
+        fail(&format!(
+            "bindgen failed on embree3/rtcore.h ({e}). bindgen needs libclang and its \
+             headers: `apt-get install libclang-dev` (or libclang-common-14-dev)"
+        ))
+    });
+    let out = PathBuf::from(env::var("OUT_DIR").expect("OUT_DIR")).join("embree.rs");
+    bindings
+        .write_to_file(&out)
+        .unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", out.display())));
+}
+
+/// Ladder for OpenImageIO: OIIO_DIR, then pkg-config.
+fn find_oiio() -> Result<Found, String> {
+    if let Some(prefix) = env::var_os("OIIO_DIR") {
+        let prefix = PathBuf::from(prefix);
+        let include = prefix.join("include");
+        if !include.join("OpenImageIO/imageio.h").is_file() {
+            return Err(format!(
+                "OIIO_DIR={} has no include/OpenImageIO/imageio.h; {DEBIAN_HINT_OIIO}",
+                prefix.display()
+            ));
+        }
+        let lib_dirs: Vec<PathBuf> = ["lib", "lib64"]
+            .iter()
+            .map(|d| prefix.join(d))
+            .filter(|d| d.is_dir())
+            .collect();
+        for dir in &lib_dirs {
+            println!("cargo:rustc-link-search=native={}", dir.display());
+        }
+        println!("cargo:rustc-link-lib=dylib=OpenImageIO");
+        println!("cargo:rustc-link-lib=dylib=OpenImageIO_Util");
+        return Ok(Found {
+            include_dirs: vec![include],
+            lib_dirs,
+        });
+    }
+    match pkg_config::Config::new()
+        .atleast_version("2.2")
+        .probe("OpenImageIO")
+    {
+        Ok(lib) => Ok(Found {
+            include_dirs: lib.include_paths,
+            lib_dirs: lib.link_paths,
+        }),
+        Err(e) => Err(format!(
+            "OpenImageIO not found through pkg-config ({e}); {DEBIAN_HINT_OIIO}"
+        )),
+    }
+}
+
+fn build_oiio_shim(found: &Found) {
+    let mut build = cc::Build::new();
+    build
+        .cpp(true)
+        .std("c++17")
+        .file("shim/oiio_shim.cpp")
+        .include("shim")
+        .warnings(true);
+    for dir in &found.include_dirs {
+        build.include(dir);
+    }
+    build.compile("spar_oiio_shim");
+    // The shim is C++: link the C++ runtime after it.
+    println!("cargo:rustc-link-lib=dylib=stdc++");
+}

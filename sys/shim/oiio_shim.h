@@ -1,0 +1,2 @@
+/* C ABI of spar's OpenImageIO shim (work in progress). */
+#pragma once

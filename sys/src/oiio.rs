@@ -1,0 +1,1 @@
+//! C ABI of the OpenImageIO shim (`shim/oiio_shim.h`). (work in progress)

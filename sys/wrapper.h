@@ -1,0 +1,2 @@
+/* The one header bindgen reads. */
+#include <embree3/rtcore.h>
