@@ -4,6 +4,9 @@
 //! This module imports nothing from scenes, acceleration structures or the
 //! native libraries.
 
+pub mod coherence;
+pub mod jones;
 pub mod medium;
 
+pub use jones::Jones;
 pub use medium::Medium;

@@ -1,0 +1,1 @@
+//! Coherence matrices J = <E E^H> (work in progress).
