@@ -28,3 +28,6 @@ pub mod material;
 pub mod native;
 pub mod optics;
 pub mod spectrum;
+
+/// spar's version, with the git revision when built from a checkout.
+pub const VERSION: &str = env!("SPAR_VERSION");

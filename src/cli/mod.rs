@@ -1,6 +1,74 @@
-//! The command line.
+//! The command line: argument parsing (clap) produces validated settings
+//! before any work starts; user errors exit with status 2, internal failures
+//! with status 1.
+
+use clap::{Parser, Subcommand};
+use std::fmt;
+
+pub mod interface;
+
+/// spar: renders polarized light in cut gems and birefringent crystals.
+#[derive(Parser, Debug)]
+#[command(name = "spar", version = crate::VERSION, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Solve one interface: every outgoing wave for one incident wave.
+    Interface(interface::InterfaceArgs),
+}
+
+/// An error the command line reports.
+#[derive(Debug)]
+pub enum CliError {
+    /// Bad input from the user (flags, scene files, meshes, textures):
+    /// exit status 2.
+    Input(String),
+    /// Anything else that went wrong: exit status 1.
+    Failed(String),
+}
+
+impl CliError {
+    pub fn exit_status(&self) -> i32 {
+        match self {
+            CliError::Input(_) => 2,
+            CliError::Failed(_) => 1,
+        }
+    }
+}
+
+impl fmt::Display for CliError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            CliError::Input(m) | CliError::Failed(m) => f.write_str(m),
+        }
+    }
+}
+
+impl std::error::Error for CliError {}
 
 /// Entry point of the `spar` binary; returns the process exit status.
 pub fn main() -> i32 {
-    0
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            // clap prints help/version to stdout (exit 0) and usage errors
+            // to stderr (exit 2).
+            let _ = e.print();
+            return e.exit_code();
+        }
+    };
+    let result = match cli.command {
+        Command::Interface(args) => interface::run(&args, &mut std::io::stdout().lock()),
+    };
+    match result {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("spar: error: {e}");
+            e.exit_status()
+        }
+    }
 }
