@@ -1,1 +1,7 @@
-//! (work in progress)
+//! Geometry: polygon meshes with flat facets, and their loading.
+
+pub mod mesh;
+pub mod obj;
+
+pub use mesh::{Facet, Mesh, TopologyError};
+pub use obj::{load_obj, parse_obj, ObjError};
