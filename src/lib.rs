@@ -16,6 +16,7 @@
 //! - [`image`]: writing and reading images (OpenImageIO when built with the
 //!   `native` feature).
 //! - [`geometry`]: meshes and their loading.
+//! - [`render`]: camera, deterministic sampling, the integrator, the film.
 //! - [`cli`]: the command line.
 #![deny(unsafe_code)]
 
@@ -27,6 +28,7 @@ pub mod material;
 #[cfg(feature = "native")]
 pub mod native;
 pub mod optics;
+pub mod render;
 pub mod spectrum;
 
 /// spar's version, with the git revision when built from a checkout.
