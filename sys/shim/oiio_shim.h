@@ -1,2 +1,131 @@
-/* C ABI of spar's OpenImageIO shim (work in progress). */
+/* C ABI of spar's OpenImageIO shim.
+ *
+ * OpenImageIO is C++; this header is the small C surface that spar-sys
+ * declares in `src/oiio.rs` and that `spar::native::oiio` wraps safely.
+ *
+ * Conventions
+ * - Pixels are 32-bit floats, interleaved (all channels of a pixel are
+ *   adjacent), row-major, top row first: width * height * nchannels values.
+ * - Strings are NUL-terminated UTF-8 (file names are passed to OpenImageIO
+ *   as bytes).
+ * - Errors: a function that can fail returns (or stores through `error`) a
+ *   message allocated by the shim, or NULL on success. The caller owns the
+ *   message and releases it with `spar_oiio_string_free`. No C++ exception
+ *   leaves the shim: each one is caught and turned into such a message.
+ * - Thread safety: the shim has no global state. OpenImageIO's global error
+ *   message is per thread, so independent files can be read and written
+ *   from several threads at once.
+ */
 #pragma once
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Pixel types stored in the file (values of `SparOiioWriteRequest.pixel_type`).
+ * The caller always passes floats; OpenImageIO converts them. For the
+ * integer types [0, 1] maps to the full integer range and values outside
+ * it are clamped; NaN is not handled by OpenImageIO (the caller must
+ * replace it). HALF turns values above 65504 into infinity. */
+#define SPAR_OIIO_PIXEL_U8 0
+#define SPAR_OIIO_PIXEL_U16 1
+#define SPAR_OIIO_PIXEL_HALF 2
+#define SPAR_OIIO_PIXEL_F32 3
+
+/* One string metadata entry. */
+typedef struct SparOiioKeyValue {
+    const char* key;
+    const char* value;
+} SparOiioKeyValue;
+
+/* Everything `spar_oiio_write` needs. All pointers are borrowed for the
+ * duration of the call. */
+typedef struct SparOiioWriteRequest {
+    /* File to write; its extension selects the format (.exr, .png, .tif,
+     * .jpg, ...). An existing file is overwritten. */
+    const char* path;
+    int32_t width;
+    int32_t height;
+    int32_t nchannels;
+    /* width * height * nchannels floats. */
+    const float* pixels;
+    /* nchannels names. PNG, JPEG and TIFF do not store names. */
+    const char* const* channel_names;
+    /* SPAR_OIIO_PIXEL_*. If the format cannot store this type the write
+     * fails (OpenImageIO would otherwise silently substitute another). */
+    int32_t pixel_type;
+    /* Index of the alpha channel, or -1 for none. */
+    int32_t alpha_channel;
+    /* Nonzero if colours are not premultiplied by alpha
+     * (sets `oiio:UnassociatedAlpha`, so PNG output is not un-premultiplied
+     * a second time). Ignored without an alpha channel. */
+    int32_t unassociated_alpha;
+    /* How the values are already encoded, recorded as `oiio:ColorSpace`:
+     * "linear" or "sRGB". Nothing is converted on write. JPEG can only
+     * record sRGB; anything else is an error for it. */
+    const char* color_space;
+    /* String metadata, written as file attributes where the format allows
+     * (EXR keeps every key; PNG, TIFF and JPEG keep fewer). Applied before
+     * the shim's own settings (compression, colour space, alpha), which
+     * therefore win. */
+    const SparOiioKeyValue* metadata;
+    size_t metadata_len;
+} SparOiioWriteRequest;
+
+/* Writes one image. EXR and TIFF are written with lossless "zip"
+ * compression. Returns NULL on success, else an owned error message. */
+char* spar_oiio_write(const SparOiioWriteRequest* request);
+
+/* An image read by `spar_oiio_read`; owned by the caller, released with
+ * `spar_oiio_image_free`. */
+typedef struct SparOiioImage SparOiioImage;
+
+/* Borrowed view of a `SparOiioImage`: every pointer stays valid until the
+ * image is freed. */
+typedef struct SparOiioImageView {
+    int32_t width;
+    int32_t height;
+    int32_t nchannels;
+    /* width * height * nchannels floats, linear (see spar_oiio_read). */
+    const float* pixels;
+    /* nchannels names, in the file's order (EXR: sorted by name). */
+    const char* const* channel_names;
+    /* Index of the alpha channel, or -1. */
+    int32_t alpha_channel;
+    /* Nonzero if colours are not premultiplied by alpha. */
+    int32_t unassociated_alpha;
+    /* The file's string metadata, without OpenImageIO's own hints
+     * (keys starting with "oiio:"). */
+    const SparOiioKeyValue* metadata;
+    size_t metadata_len;
+} SparOiioImageView;
+
+/* Reads the first subimage of a file (the top MIP level, the data window)
+ * as float. Pixels whose file declares a non-linear colour space (8- and
+ * 16-bit PNG and JPEG unless they say otherwise, TIFF tagged sRGB, PNG
+ * with a gamma) are decoded to linear by OpenImageIO; alpha is left as it
+ * is. Files that declare none (EXR, float TIFF, untagged TIFF) are
+ * returned as stored. Returns NULL and stores an owned message in *error
+ * on failure; *error is set to NULL on success. */
+SparOiioImage* spar_oiio_read(const char* path, char** error);
+
+/* Fills *view from an image. */
+void spar_oiio_image_view(const SparOiioImage* image, SparOiioImageView* view);
+
+/* Releases an image (NULL is allowed). */
+void spar_oiio_image_free(SparOiioImage* image);
+
+/* Releases an error message (NULL is allowed). */
+void spar_oiio_string_free(char* message);
+
+/* Layout of the structs above as this compiler sees them, for spar-sys's
+ * ABI test: `item` is "<Struct>.size", "<Struct>.align" or
+ * "<Struct>.<field>" (the field's offset). Returns -1 for an unknown item. */
+int64_t spar_oiio_abi_layout(const char* item);
+
+#ifdef __cplusplus
+}
+#endif
