@@ -6,7 +6,12 @@
 //! modal amplitudes of an outgoing wave, so its shape is 1×1, 1×2, 2×1 or
 //! 2×2. Unused entries of `m` are zero.
 
+use glam::DVec3;
 use num_complex::Complex64;
+use std::ops::Mul;
+
+const ZERO: Complex64 = Complex64::new(0.0, 0.0);
+const ONE: Complex64 = Complex64::new(1.0, 0.0);
 
 /// A complex matrix of shape `rows × cols`, each 1 or 2.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -14,4 +19,170 @@ pub struct Jones {
     pub rows: usize,
     pub cols: usize,
     pub m: [[Complex64; 2]; 2],
+}
+
+fn check_shape(rows: usize, cols: usize) {
+    assert!(
+        (1..=2).contains(&rows) && (1..=2).contains(&cols),
+        "a Jones block is 1×1, 1×2, 2×1 or 2×2, not {rows}×{cols}"
+    );
+}
+
+impl Jones {
+    /// The zero block of shape `rows × cols`.
+    pub fn zero(rows: usize, cols: usize) -> Jones {
+        check_shape(rows, cols);
+        Jones {
+            rows,
+            cols,
+            m: [[ZERO; 2]; 2],
+        }
+    }
+
+    /// The `n × n` identity.
+    pub fn identity(n: usize) -> Jones {
+        let mut j = Jones::zero(n, n);
+        for i in 0..n {
+            j.m[i][i] = ONE;
+        }
+        j
+    }
+
+    /// A block of shape `rows × cols` from a full 2×2 array; entries outside
+    /// the shape are set to zero.
+    pub fn from_entries(rows: usize, cols: usize, m: [[Complex64; 2]; 2]) -> Jones {
+        let mut j = Jones::zero(rows, cols);
+        for r in 0..rows {
+            for c in 0..cols {
+                j.m[r][c] = m[r][c];
+            }
+        }
+        j
+    }
+
+    /// The 2×2 diagonal block `diag(a, b)` (e.g. Fresnel `rs`, `rp`).
+    pub fn diagonal(a: Complex64, b: Complex64) -> Jones {
+        Jones {
+            rows: 2,
+            cols: 2,
+            m: [[a, ZERO], [ZERO, b]],
+        }
+    }
+
+    /// The 1×1 block `a` (eigenwave to eigenwave).
+    pub fn scalar(a: Complex64) -> Jones {
+        Jones::from_entries(1, 1, [[a, ZERO], [ZERO, ZERO]])
+    }
+
+    /// The 1×2 block `[a b]` (two modes into one eigenwave).
+    pub fn row(a: Complex64, b: Complex64) -> Jones {
+        Jones::from_entries(1, 2, [[a, b], [ZERO, ZERO]])
+    }
+
+    /// The 2×1 block `[a; b]` (one eigenwave into two modes).
+    pub fn column(a: Complex64, b: Complex64) -> Jones {
+        Jones::from_entries(2, 1, [[a, ZERO], [b, ZERO]])
+    }
+
+    /// The real 2×2 change of transverse basis to axes rotated by `theta`
+    /// (radians, from x toward y): components in the new basis are
+    /// `R · components in the old`, `R = [[cos θ, sin θ], [−sin θ, cos θ]]`.
+    pub fn rotation(theta: f64) -> Jones {
+        let (s, c) = theta.sin_cos();
+        let r = |v: f64| Complex64::new(v, 0.0);
+        Jones {
+            rows: 2,
+            cols: 2,
+            m: [[r(c), r(s)], [r(-s), r(c)]],
+        }
+    }
+
+    /// The real change of basis from the unit vectors `from` to the unit
+    /// vectors `to` (1 or 2 of each): entry `(r, c) = to[r] · from[c]`, the
+    /// component along `to[r]` of a unit field along `from[c]`. When both
+    /// bases span the same plane (transverse to one direction) this is a
+    /// rotation or a reflection; otherwise it projects.
+    pub fn change_of_basis(from: &[DVec3], to: &[DVec3]) -> Jones {
+        let mut j = Jones::zero(to.len(), from.len());
+        for (r, t) in to.iter().enumerate() {
+            for (c, f) in from.iter().enumerate() {
+                j.m[r][c] = Complex64::new(t.dot(*f), 0.0);
+            }
+        }
+        j
+    }
+
+    /// Entry `(r, c)`.
+    #[inline]
+    pub fn get(&self, r: usize, c: usize) -> Complex64 {
+        self.m[r][c]
+    }
+
+    /// The matrix product `self · rhs` (`self.cols` must equal `rhs.rows`).
+    pub fn product(&self, rhs: &Jones) -> Jones {
+        assert_eq!(
+            self.cols, rhs.rows,
+            "Jones product of a {}×{} and a {}×{} block",
+            self.rows, self.cols, rhs.rows, rhs.cols
+        );
+        let mut out = Jones::zero(self.rows, rhs.cols);
+        for r in 0..self.rows {
+            for c in 0..rhs.cols {
+                out.m[r][c] = (0..self.cols).map(|k| self.m[r][k] * rhs.m[k][c]).sum();
+            }
+        }
+        out
+    }
+
+    /// The conjugate transpose `Tᴴ`.
+    pub fn adjoint(&self) -> Jones {
+        let mut out = Jones::zero(self.cols, self.rows);
+        for r in 0..self.rows {
+            for c in 0..self.cols {
+                out.m[c][r] = self.m[r][c].conj();
+            }
+        }
+        out
+    }
+
+    /// The block times a complex factor.
+    pub fn scaled(&self, k: Complex64) -> Jones {
+        let mut out = *self;
+        for row in out.m.iter_mut() {
+            for v in row.iter_mut() {
+                *v *= k;
+            }
+        }
+        out
+    }
+
+    /// The block applied to a vector of `cols` modal amplitudes (entries
+    /// beyond `cols` are ignored; the result has zeros beyond `rows`).
+    pub fn apply(&self, v: [Complex64; 2]) -> [Complex64; 2] {
+        let mut out = [ZERO; 2];
+        for (r, o) in out.iter_mut().enumerate().take(self.rows) {
+            *o = (0..self.cols).map(|c| self.m[r][c] * v[c]).sum();
+        }
+        out
+    }
+
+    /// The squared Frobenius norm `Σ |T_rc|²` (twice the transmitted
+    /// intensity of unit unpolarized light through a 2×2 block).
+    pub fn norm_sqr(&self) -> f64 {
+        self.m.iter().flatten().map(|v| v.norm_sqr()).sum()
+    }
+
+    /// True when every entry is finite.
+    pub fn is_finite(&self) -> bool {
+        self.m.iter().flatten().all(|v| v.is_finite())
+    }
+}
+
+impl Mul for Jones {
+    type Output = Jones;
+
+    /// The matrix product (see [`Jones::product`]).
+    fn mul(self, rhs: Jones) -> Jones {
+        self.product(&rhs)
+    }
 }

@@ -7,6 +7,9 @@
 pub mod coherence;
 pub mod jones;
 pub mod medium;
+pub mod polarimetry;
 
+pub use coherence::{Coherence, Handedness, Stokes};
 pub use jones::Jones;
 pub use medium::Medium;
+pub use polarimetry::{Polarimetry, PolarizationMap};
