@@ -165,6 +165,9 @@ std::string write_image(const SparOiioWriteRequest& rq)
         std::string msg = Strutil::fmt::format(
             "the {} format cannot store {} channel(s) of {} pixels",
             format_name, rq.nchannels, format.c_str());
+        // Finish the file anyway (the caller deletes it): closing a PNG
+        // with no pixels makes libpng complain on stderr.
+        out->write_image(TypeDesc::FLOAT, rq.pixels);
         out->close();
         return msg;
     }

@@ -1,0 +1,235 @@
+//! [`write`] and [`read`]: atomic writes through a temporary file, and the
+//! choice of backend (OpenImageIO with the `native` feature, none without).
+
+use super::{Cause, Image, ImageError, WriteOptions};
+use std::ffi::OsString;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Writes `image` to `path`, in the format its extension names, atomically
+/// (see the [module documentation](super)). The image's metadata is stored
+/// as string attributes where the format allows.
+///
+/// 8- and 16-bit outputs clamp values to `[0, 1]` and write NaN as 0; the
+/// values must already be in `options.encoding`.
+pub fn write(path: &Path, image: &Image, options: WriteOptions) -> Result<(), ImageError> {
+    let fail = |cause| ImageError::Write {
+        path: path.to_path_buf(),
+        cause,
+    };
+    if !backend::AVAILABLE {
+        return Err(fail(Cause::NoBackend));
+    }
+    if let Some(key) = image
+        .metadata
+        .keys()
+        .find(|k| k.is_empty() || k.to_ascii_lowercase().starts_with("oiio:"))
+    {
+        return Err(fail(Cause::Invalid(format!(
+            "metadata key '{key}' is empty or reserved (the oiio: namespace holds OpenImageIO's settings)"
+        ))));
+    }
+    let temp = TempFile::beside(path).map_err(fail)?;
+
+    let sanitized;
+    let pixels: &[f32] = if options.pixel_type.is_integer() {
+        sanitized = image.data.iter().map(|&v| to_unit(v)).collect::<Vec<_>>();
+        &sanitized
+    } else {
+        &image.data
+    };
+    backend::write(&temp.path, image, pixels, options).map_err(|message| {
+        // The backend saw the temporary's name; the caller knows the
+        // destination's.
+        let message = message.replace(
+            temp.path.to_string_lossy().as_ref(),
+            path.to_string_lossy().as_ref(),
+        );
+        fail(Cause::Backend(message))
+    })?;
+    temp.persist(path).map_err(|e| fail(Cause::Io(e)))
+}
+
+/// Reads `path` (first subimage, top MIP level): linear floats, the file's
+/// channel names and string metadata. See the [module documentation](super)
+/// for what is decoded.
+pub fn read(path: &Path) -> Result<Image, ImageError> {
+    let fail = |cause| ImageError::Read {
+        path: path.to_path_buf(),
+        cause,
+    };
+    if !backend::AVAILABLE {
+        return Err(fail(Cause::NoBackend));
+    }
+    // Ask the file system first: its message for a missing or unreadable
+    // file is clearer than a decoder's.
+    let meta = fs::metadata(path).map_err(|e| fail(Cause::Io(e)))?;
+    if meta.is_dir() {
+        return Err(fail(Cause::Invalid("it is a directory".into())));
+    }
+    let mut image = backend::read(path).map_err(|m| fail(Cause::Backend(m)))?;
+    image.source = Some(path.to_path_buf());
+    Ok(image)
+}
+
+/// An integer output's value: clamped to `[0, 1]`, NaN as 0.
+fn to_unit(v: f32) -> f32 {
+    if v.is_nan() {
+        0.0
+    } else {
+        v.clamp(0.0, 1.0)
+    }
+}
+
+/// A temporary file beside its destination, removed on drop unless it was
+/// renamed into place.
+struct TempFile {
+    path: PathBuf,
+    persisted: bool,
+}
+
+impl TempFile {
+    /// `dir/.name.tmp-<pid>-<n>.ext` for `dir/name`: same directory (so the
+    /// rename cannot cross file systems), same extension (so the format is
+    /// the same), a name no other writer in this or another process uses.
+    fn beside(path: &Path) -> Result<TempFile, Cause> {
+        static COUNTER: AtomicU64 = AtomicU64::new(0);
+        let name = path
+            .file_name()
+            .ok_or_else(|| Cause::Invalid("the path names no file".into()))?;
+        let ext = path.extension().ok_or_else(|| {
+            Cause::Invalid("the file name has no extension to choose a format by".into())
+        })?;
+        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+        let mut temp_name = OsString::from(".");
+        temp_name.push(name);
+        temp_name.push(format!(".tmp-{}-{n}.", std::process::id()));
+        temp_name.push(ext);
+        Ok(TempFile {
+            path: path.with_file_name(temp_name),
+            persisted: false,
+        })
+    }
+
+    /// Renames the temporary over `dest`.
+    fn persist(mut self, dest: &Path) -> std::io::Result<()> {
+        fs::rename(&self.path, dest)?;
+        self.persisted = true;
+        Ok(())
+    }
+}
+
+impl Drop for TempFile {
+    fn drop(&mut self) {
+        if !self.persisted {
+            // It may never have been created; nothing else to do either way.
+            let _ = fs::remove_file(&self.path);
+        }
+    }
+}
+
+#[cfg(feature = "native")]
+mod backend {
+    use crate::image::{AlphaMode, Encoding, Image, PixelType, WriteOptions};
+    use crate::native::oiio;
+    use std::path::Path;
+
+    pub const AVAILABLE: bool = true;
+
+    pub fn write(
+        path: &Path,
+        image: &Image,
+        pixels: &[f32],
+        options: WriteOptions,
+    ) -> Result<(), String> {
+        let metadata: Vec<(&str, &str)> = image
+            .metadata
+            .iter()
+            .map(|(k, v)| (k.as_str(), v.as_str()))
+            .collect();
+        oiio::write(&oiio::WriteRequest {
+            path,
+            width: image.width,
+            height: image.height,
+            channel_names: &image.channels,
+            pixels,
+            pixel_type: match options.pixel_type {
+                PixelType::U8 => oiio::PixelType::U8,
+                PixelType::U16 => oiio::PixelType::U16,
+                PixelType::Half => oiio::PixelType::Half,
+                PixelType::F32 => oiio::PixelType::F32,
+            },
+            alpha_channel: image.alpha_channel(),
+            unassociated_alpha: image.alpha == AlphaMode::Straight,
+            color_space: match options.encoding {
+                Encoding::Linear => oiio::ColorSpace::Linear,
+                Encoding::Srgb => oiio::ColorSpace::Srgb,
+            },
+            metadata: &metadata,
+        })
+        .map_err(|e| e.0)
+    }
+
+    pub fn read(path: &Path) -> Result<Image, String> {
+        let raw = oiio::read(path).map_err(|e| e.0)?;
+        let mut image = Image::new(raw.width, raw.height, raw.channel_names, raw.pixels)
+            .map_err(|e| e.to_string())?;
+        image.alpha = if raw.unassociated_alpha {
+            AlphaMode::Straight
+        } else {
+            AlphaMode::Premultiplied
+        };
+        image.metadata = raw.metadata.into_iter().collect();
+        Ok(image)
+    }
+}
+
+#[cfg(not(feature = "native"))]
+mod backend {
+    use crate::image::{Image, WriteOptions};
+    use std::path::Path;
+
+    pub const AVAILABLE: bool = false;
+
+    pub fn write(_: &Path, _: &Image, _: &[f32], _: WriteOptions) -> Result<(), String> {
+        Err("no image backend".into())
+    }
+
+    pub fn read(_: &Path) -> Result<Image, String> {
+        Err("no image backend".into())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn integer_outputs_clamp_and_zero_nan() {
+        let cases = [
+            (f32::NAN, 0.0),
+            (f32::INFINITY, 1.0),
+            (f32::NEG_INFINITY, 0.0),
+            (-0.5, 0.0),
+            (1.5, 1.0),
+            (0.25, 0.25),
+        ];
+        for (v, want) in cases {
+            assert_eq!(to_unit(v), want, "{v}");
+        }
+    }
+
+    #[test]
+    fn temporaries_sit_beside_the_destination_with_its_extension() {
+        let a = TempFile::beside(Path::new("out/dir/render.png")).unwrap();
+        let b = TempFile::beside(Path::new("out/dir/render.png")).unwrap();
+        assert_ne!(a.path, b.path);
+        assert_eq!(a.path.parent(), Some(Path::new("out/dir")));
+        assert_eq!(a.path.extension().unwrap(), "png");
+        let name = a.path.file_name().unwrap().to_string_lossy().into_owned();
+        assert!(name.starts_with(".render.png.tmp-"), "{name}");
+        assert!(TempFile::beside(Path::new("render")).is_err());
+        assert!(TempFile::beside(Path::new("/")).is_err());
+    }
+}
