@@ -9,12 +9,13 @@
 //!
 //! Radiance is relative to CIE D65 (the light of every scene): the D65
 //! spectrum itself must come out as sRGB (1, 1, 1), whatever the sampling.
-//! A 21-sample sum of D65 is not the 1 nm white point: its chromaticity is off
-//! by about 1e-3 and the published sRGB matrix maps even the 1 nm D65 white to
-//! (1, 1, 1) only to about 1e-4. So [`Observer::new`] integrates D65 with
-//! *the same wavelengths and weights* it will integrate every spectrum with,
-//! and divides each linear sRGB channel by that sampled white (a diagonal
-//! gain in the sRGB primaries, 1 ± a few 1e-3 for 21 samples). Then a flat
+//! A 21-sample sum of D65 is not the 1 nm white point: its chromaticity is
+//! (0.3132, 0.3276) instead of (0.3127, 0.3291), which the sRGB matrix turns
+//! into (1.016, 0.997, 1.011); and the published matrix maps even the 1 nm
+//! D65 white to (1, 1, 1) only to 2e-4. So [`Observer::new`] integrates D65
+//! with *the same wavelengths and weights* it will integrate every spectrum
+//! with, and divides each linear sRGB channel by that sampled white (a
+//! diagonal gain in the sRGB primaries, within 2% of 1 for 21 samples). Then a flat
 //! spectrum times D65 is white to rounding for every set, and the quadrature
 //! error of the white cancels from every colour that is near white: the
 //! error that remains is in saturation only. This is the same as deriving the
