@@ -169,8 +169,15 @@ fn generate_embree_bindings(found: &Found) {
         .unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", out.display())));
 }
 
+/// The oldest OpenImageIO the shim is built and tested against (Debian 12
+/// ships 2.4.7; the shim uses `ColorConfig::isColorSpaceLinear`, which
+/// older releases lack).
+const OIIO_MIN_VERSION: (u32, u32) = (2, 4);
+
 /// Ladder for OpenImageIO: OIIO_DIR, then pkg-config.
 fn find_oiio() -> Result<Found, String> {
+    let (min_major, min_minor) = OIIO_MIN_VERSION;
+    // Rung 1: explicit override.
     if let Some(prefix) = env::var_os("OIIO_DIR") {
         let prefix = PathBuf::from(prefix);
         let include = prefix.join("include");
@@ -179,6 +186,25 @@ fn find_oiio() -> Result<Found, String> {
                 "OIIO_DIR={} has no include/OpenImageIO/imageio.h; {DEBIAN_HINT_OIIO}",
                 prefix.display()
             ));
+        }
+        let version_h = include.join("OpenImageIO/oiioversion.h");
+        let text = std::fs::read_to_string(&version_h)
+            .map_err(|e| format!("cannot read {}: {e}", version_h.display()))?;
+        let define = |name: &str| -> Option<u32> {
+            text.lines()
+                .find_map(|l| l.trim().strip_prefix(&format!("#define {name} ")))
+                .and_then(|v| v.trim().parse().ok())
+        };
+        match (define("OIIO_VERSION_MAJOR"), define("OIIO_VERSION_MINOR")) {
+            (Some(major), Some(minor)) if (major, minor) >= OIIO_MIN_VERSION => {}
+            (Some(major), Some(minor)) => {
+                return Err(format!(
+                    "{} says OpenImageIO {major}.{minor}; spar needs {min_major}.{min_minor} or newer. \
+                     {DEBIAN_HINT_OIIO}",
+                    version_h.display()
+                ))
+            }
+            _ => return Err(format!("cannot find the version in {}", version_h.display())),
         }
         let lib_dirs: Vec<PathBuf> = ["lib", "lib64"]
             .iter()
@@ -195,8 +221,9 @@ fn find_oiio() -> Result<Found, String> {
             lib_dirs,
         });
     }
+    // Rung 2: pkg-config (emits the link flags itself).
     match pkg_config::Config::new()
-        .atleast_version("2.2")
+        .atleast_version(&format!("{min_major}.{min_minor}"))
         .probe("OpenImageIO")
     {
         Ok(lib) => Ok(Found {
@@ -204,7 +231,8 @@ fn find_oiio() -> Result<Found, String> {
             lib_dirs: lib.link_paths,
         }),
         Err(e) => Err(format!(
-            "OpenImageIO not found through pkg-config ({e}); {DEBIAN_HINT_OIIO}"
+            "OpenImageIO {min_major}.{min_minor} or newer not found through pkg-config ({e}); \
+             {DEBIAN_HINT_OIIO}"
         )),
     }
 }

@@ -133,6 +133,10 @@ fn formats_refuse_what_they_cannot_store_and_leave_nothing() {
         assert!(matches!(cause, Cause::Backend(_)), "{file}: {cause:?}");
         eprintln!("{message}");
     }
+    // Half and float files hold linear values only.
+    let srgb_half = WriteOptions::new(PixelType::Half).with_encoding(image::Encoding::Srgb);
+    let (cause, _) = write_err(&dir.path().join("srgb.exr"), &img, srgb_half);
+    assert!(matches!(cause, Cause::Invalid(_)), "{cause:?}");
     assert!(entries(dir.path()).is_empty(), "{:?}", entries(dir.path()));
 }
 

@@ -411,6 +411,34 @@ fn openimageio_tools_see_what_spar_wrote() {
         assert_close(rgba[5][c], srgb_decode(stored), 1e-5, "oiiotool's pixel");
     }
     assert_eq!(rgba[5][3], 1.0);
+
+    // A PNG whose metadata says gamma 2.2 rather than sRGB is decoded with it.
+    let gamma = dir.path().join("gamma22.png");
+    let status = Command::new("oiiotool")
+        .args(["--pattern", "constant:color=0.5", "2x2", "1", "-d", "uint8"])
+        .args(["--iscolorspace", "Gamma2.2", "-o"])
+        .arg(&gamma)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let back = image::read(&gamma).unwrap();
+    assert_close(
+        back.data()[0],
+        (128.0f32 / 255.0).powf(2.2),
+        1e-4,
+        "gamma 2.2 PNG",
+    );
+
+    // Float files are linear whatever colour space they name.
+    let tagged = dir.path().join("tagged_srgb.exr");
+    let status = Command::new("oiiotool")
+        .args(["--pattern", "constant:color=0.5", "2x2", "1", "-d", "float"])
+        .args(["--iscolorspace", "sRGB", "-o"])
+        .arg(&tagged)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    assert_eq!(image::read(&tagged).unwrap().data(), &[0.5; 4]);
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! [`write`] and [`read`]: atomic writes through a temporary file, and the
 //! choice of backend (OpenImageIO with the `native` feature, none without).
 
-use super::{Cause, Image, ImageError, WriteOptions};
+use super::{Cause, Encoding, Image, ImageError, WriteOptions};
 use std::ffi::OsString;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -29,6 +29,12 @@ pub fn write(path: &Path, image: &Image, options: WriteOptions) -> Result<(), Im
         return Err(fail(Cause::Invalid(format!(
             "metadata key '{key}' is empty or reserved (the oiio: namespace holds OpenImageIO's settings)"
         ))));
+    }
+    if !options.pixel_type.is_integer() && options.encoding != Encoding::Linear {
+        return Err(fail(Cause::Invalid(
+            "half and float files hold linear values; sRGB encoding is for 8- and 16-bit files"
+                .into(),
+        )));
     }
     let temp = TempFile::beside(path).map_err(fail)?;
 

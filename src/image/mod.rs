@@ -20,10 +20,12 @@
 //!   values are clamped to `[0, 1]` and NaN is written as 0 (so `+∞ → 1`,
 //!   `−∞ → 0`). Half and float outputs keep NaN and infinities; half turns
 //!   finite values above 65504 into infinity.
-//! - Reading decodes files whose colour space is declared non-linear to
-//!   linear: 8/16-bit PNG and JPEG (sRGB unless the file says otherwise, a
-//!   PNG gamma included) and TIFF tagged sRGB. EXR, float TIFF and untagged
-//!   TIFF are returned as stored. Alpha is never decoded.
+//! - Half and float files hold linear values: [`write`] refuses
+//!   [`Encoding::Srgb`] for them, and [`read`] returns them as stored.
+//! - Reading decodes integer files whose colour space is declared
+//!   non-linear to linear: 8/16-bit PNG and JPEG (sRGB unless the file says
+//!   otherwise, a PNG gamma included) and TIFF tagged sRGB. Untagged TIFF is
+//!   returned as stored. Alpha is never decoded.
 //! - Alpha is the channel named `A` (or `Alpha`); [`AlphaMode`] says whether
 //!   colours are premultiplied by it. PNG stores straight alpha, EXR
 //!   premultiplied; OpenImageIO converts when the two differ.

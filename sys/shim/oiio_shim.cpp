@@ -231,9 +231,11 @@ std::unique_ptr<SparOiioImage> read_image(const char* path, std::string* error)
                                     : 0;
     in->close();
 
-    // Decode to linear when the file declares a non-linear encoding.
+    // Decode integer samples to linear when the file declares a non-linear
+    // encoding. Half and float samples are linear by convention (EXR, float
+    // TIFF), whatever name a file gives its colour space.
     std::string colour_space = spec.get_string_attribute("oiio:ColorSpace");
-    if (!colour_space.empty()
+    if (!spec.format.is_floating_point() && !colour_space.empty()
         && !colour_config().isColorSpaceLinear(colour_space)) {
         ImageSpec float_spec = spec;
         float_spec.set_format(TypeDesc::FLOAT);

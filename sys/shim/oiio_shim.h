@@ -65,7 +65,8 @@ typedef struct SparOiioWriteRequest {
     int32_t unassociated_alpha;
     /* How the values are already encoded, recorded as `oiio:ColorSpace`:
      * "linear" or "sRGB". Nothing is converted on write. JPEG can only
-     * record sRGB; anything else is an error for it. */
+     * record sRGB; anything else is an error for it. Half and float files
+     * are read back as linear whatever they record. */
     const char* color_space;
     /* String metadata, written as file attributes where the format allows
      * (EXR keeps every key; PNG, TIFF and JPEG keep fewer). Applied before
@@ -104,12 +105,13 @@ typedef struct SparOiioImageView {
 } SparOiioImageView;
 
 /* Reads the first subimage of a file (the top MIP level, the data window)
- * as float. Pixels whose file declares a non-linear colour space (8- and
- * 16-bit PNG and JPEG unless they say otherwise, TIFF tagged sRGB, PNG
- * with a gamma) are decoded to linear by OpenImageIO; alpha is left as it
- * is. Files that declare none (EXR, float TIFF, untagged TIFF) are
- * returned as stored. Returns NULL and stores an owned message in *error
- * on failure; *error is set to NULL on success. */
+ * as float. Integer samples whose file declares a non-linear colour space
+ * (8- and 16-bit PNG and JPEG unless they say otherwise, TIFF tagged sRGB,
+ * PNG with a gamma) are decoded to linear by OpenImageIO; alpha is left as
+ * it is; an encoding OpenImageIO cannot decode is an error. Half and float
+ * samples (EXR, float TIFF) and files that declare nothing (untagged TIFF)
+ * are returned as stored. Returns NULL and stores an owned message in
+ * *error on failure; *error is set to NULL on success. */
 SparOiioImage* spar_oiio_read(const char* path, char** error);
 
 /* Fills *view from an image. */
