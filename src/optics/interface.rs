@@ -1,0 +1,507 @@
+//! The forward interface problem: one incident plane wave, every outgoing
+//! wave with its amplitude (optics.md §4; Yariv & Yeh §4.6; Born & Wolf
+//! §1.5, §15.4).
+//!
+//! One 4×4 complex system covers every pair of media: the tangential
+//! components (along `s` and `u = N × s`, see [`super::modes`]) of `E` and
+//! `H` are continuous, the unknowns are the amplitudes of the two outgoing
+//! modes on each side, and the incident field drives the system. Isotropic
+//! pairs use the closed forms of [`super::fresnel`] instead (they agree with
+//! the solver to rounding; the property tests check 1e-12).
+//!
+//! Amplitudes refer to the unit-amplitude field vectors of
+//! [`Eigenwave`]; energy-normalized amplitudes are
+//! `ã_j = a_j sqrt(|F_j| / |F_i|)` with `F = Re((E × H*)·N)/2`, and
+//! `Σ |ã_j|² = 1` over the propagating outgoing waves.
+//!
+//! Radiance also scales by `n²` between media; the renderer's Jones blocks
+//! use `ã` and leave that factor out, because for a camera and lights in
+//! air it cancels along every closed path (optics.md §4).
+
+use super::fresnel::fresnel_from_normals;
+use super::linalg::{CVec3, Lu4};
+use super::medium::Medium;
+use super::modes::{
+    k_from_wave_normal, ray_vector, Eigenwave, Mode, Sheet, Side, TangentFrame, Travel,
+};
+use glam::DVec3;
+use num_complex::Complex64;
+use std::fmt;
+
+/// Why an interface problem could not be set up.
+#[derive(Clone, Debug, PartialEq)]
+pub enum InterfaceError {
+    /// A vector (normal, axis, direction, tangential component) is zero or
+    /// not finite.
+    BadVector(&'static str),
+    /// A refractive index is not a finite positive number.
+    BadIndex(f64),
+    /// The mode does not exist in the medium on that side (s/p in a crystal,
+    /// o/e in an isotropic medium).
+    ModeNotInMedium { mode: Mode, side: Side },
+    /// The wave does not carry energy toward the interface (an incident
+    /// wave must).
+    NotIncident,
+    /// The wave does not carry energy away from the interface (the backward
+    /// query needs an outgoing wave).
+    NotOutgoing,
+    /// No propagating wave of this mode has this tangential component.
+    NoSuchWave,
+    /// The boundary system is singular to working precision.
+    Singular,
+    /// Closed-form Fresnel was asked for a pair that is not isotropic.
+    NotIsotropic,
+}
+
+impl fmt::Display for InterfaceError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            InterfaceError::BadVector(what) => write!(f, "{what} must be a finite non-zero vector"),
+            InterfaceError::BadIndex(n) => {
+                write!(f, "refractive index must be finite and positive, got {n}")
+            }
+            InterfaceError::ModeNotInMedium { mode, side } => {
+                let side = match side {
+                    Side::Plus => "incident-side (+)",
+                    Side::Minus => "far-side (−)",
+                };
+                let has = match mode {
+                    Mode::S | Mode::P => "a uniaxial crystal has modes o and e",
+                    Mode::O | Mode::E => "an isotropic medium has modes s and p",
+                };
+                write!(
+                    f,
+                    "mode {} does not exist in the {side} medium: {has}",
+                    mode.name()
+                )
+            }
+            InterfaceError::NotIncident => {
+                f.write_str("the wave does not carry energy toward the interface")
+            }
+            InterfaceError::NotOutgoing => {
+                f.write_str("the wave does not carry energy away from the interface")
+            }
+            InterfaceError::NoSuchWave => {
+                f.write_str("no propagating wave of this mode has this tangential wave vector")
+            }
+            InterfaceError::Singular => f.write_str("the boundary-condition system is singular"),
+            InterfaceError::NotIsotropic => {
+                f.write_str("closed-form Fresnel needs isotropic media on both sides")
+            }
+        }
+    }
+}
+
+impl std::error::Error for InterfaceError {}
+
+/// A planar interface: unit normal `N` pointing into side +, and the media on
+/// both sides at one wavelength (crystal axes unit, in the same frame as `N`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Interface {
+    normal: DVec3,
+    media: [Medium; 2],
+}
+
+fn check_vector(v: DVec3, what: &'static str) -> Result<DVec3, InterfaceError> {
+    let l = v.length();
+    if !v.is_finite() || !(l > 0.0) || !l.is_finite() {
+        return Err(InterfaceError::BadVector(what));
+    }
+    Ok(v / l)
+}
+
+fn check_medium(m: Medium) -> Result<Medium, InterfaceError> {
+    let good = |n: f64| n.is_finite() && n > 0.0;
+    match m {
+        Medium::Isotropic { n } => {
+            if good(n) {
+                Ok(m)
+            } else {
+                Err(InterfaceError::BadIndex(n))
+            }
+        }
+        Medium::Uniaxial { n_o, n_e, axis } => {
+            for n in [n_o, n_e] {
+                if !good(n) {
+                    return Err(InterfaceError::BadIndex(n));
+                }
+            }
+            Ok(Medium::Uniaxial {
+                n_o,
+                n_e,
+                axis: check_vector(axis, "optic axis")?,
+            })
+        }
+    }
+}
+
+impl Interface {
+    /// An interface with normal `normal` (normalized here) pointing into the
+    /// medium `plus`; `minus` is on the other side. Optic axes are
+    /// normalized too.
+    pub fn new(normal: DVec3, plus: Medium, minus: Medium) -> Result<Interface, InterfaceError> {
+        Ok(Interface {
+            normal: check_vector(normal, "interface normal")?,
+            media: [check_medium(plus)?, check_medium(minus)?],
+        })
+    }
+
+    /// Unit normal, pointing into side +.
+    #[inline]
+    pub fn normal(&self) -> DVec3 {
+        self.normal
+    }
+
+    /// The medium on `side`.
+    #[inline]
+    pub fn medium(&self, side: Side) -> &Medium {
+        &self.media[side.index()]
+    }
+
+    /// True when both media are isotropic (closed forms apply).
+    #[inline]
+    pub fn is_isotropic(&self) -> bool {
+        self.media[0].is_isotropic() && self.media[1].is_isotropic()
+    }
+
+    /// The tangent frame for tangential wave vector `t`.
+    #[inline]
+    pub fn frame(&self, t: DVec3) -> TangentFrame {
+        TangentFrame::new(self.normal, t)
+    }
+
+    /// The wave vector of a `mode` wave on `side` whose wave normal is along
+    /// `direction`, checked to be an incident wave: its energy must flow
+    /// toward the interface (`σ (S·N) < 0`, optics.md §4).
+    pub fn incident_k(
+        &self,
+        side: Side,
+        mode: Mode,
+        direction: DVec3,
+    ) -> Result<DVec3, InterfaceError> {
+        let d = check_vector(direction, "incident direction")?;
+        let medium = self.medium(side);
+        if !mode.exists_in(medium) {
+            return Err(InterfaceError::ModeNotInMedium { mode, side });
+        }
+        let k = k_from_wave_normal(medium, mode.kind(), d);
+        let s_n = ray_vector(medium, mode.kind(), k).dot(self.normal);
+        if !(side.sign() * s_n < 0.0) {
+            return Err(InterfaceError::NotIncident);
+        }
+        Ok(k)
+    }
+
+    /// The incident `mode` wave on `side` with tangential component `t`.
+    pub fn incident_wave(
+        &self,
+        side: Side,
+        mode: Mode,
+        t: DVec3,
+    ) -> Result<Eigenwave, InterfaceError> {
+        if !t.is_finite() {
+            return Err(InterfaceError::BadVector("tangential wave vector"));
+        }
+        self.incident_wave_in(side, mode, &self.frame(t))
+    }
+
+    /// The incident `mode` wave on `side` in a given tangent frame.
+    pub fn incident_wave_in(
+        &self,
+        side: Side,
+        mode: Mode,
+        frame: &TangentFrame,
+    ) -> Result<Eigenwave, InterfaceError> {
+        let medium = self.medium(side);
+        if !mode.exists_in(medium) {
+            return Err(InterfaceError::ModeNotInMedium { mode, side });
+        }
+        Eigenwave::new(medium, frame, side, Travel::Incoming, mode)
+            .ok_or(InterfaceError::NoSuchWave)
+    }
+
+    /// The four outgoing waves for tangential component `frame.t`, in the
+    /// order `[+ mode₀, + mode₁, − mode₀, − mode₁]` with modes `(s, p)` or
+    /// `(o, e)`.
+    #[inline]
+    pub fn outgoing_waves(&self, frame: &TangentFrame) -> [Eigenwave; 4] {
+        let wave = |side: Side, i: usize| {
+            let m = self.medium(side);
+            let mode = Mode::pair_of(m)[i];
+            let sheet = Sheet::new(m, mode.kind(), frame);
+            Eigenwave::on_sheet(m, frame, &sheet, side, Travel::Outgoing, mode, side.sign())
+        };
+        [
+            wave(Side::Plus, 0),
+            wave(Side::Plus, 1),
+            wave(Side::Minus, 0),
+            wave(Side::Minus, 1),
+        ]
+    }
+
+    /// Solve the forward problem for the incident `mode` wave on `side` with
+    /// tangential wave vector `t` (any normal component of `t` is ignored,
+    /// so a full incident `k` may be passed): closed-form Fresnel when both
+    /// media are isotropic, the 4×4 solver otherwise.
+    pub fn solve(&self, side: Side, mode: Mode, t: DVec3) -> Result<Scattering, InterfaceError> {
+        if !t.is_finite() {
+            return Err(InterfaceError::BadVector("tangential wave vector"));
+        }
+        self.solve_in(side, mode, &self.frame(t))
+    }
+
+    /// [`Interface::solve`] in a given tangent frame (bit-identical inputs to
+    /// a backward query that reports the same frame).
+    pub fn solve_in(
+        &self,
+        side: Side,
+        mode: Mode,
+        frame: &TangentFrame,
+    ) -> Result<Scattering, InterfaceError> {
+        if self.is_isotropic() {
+            self.closed_form_in(side, mode, frame)
+        } else {
+            self.solver_in(side, mode, frame)
+        }
+    }
+
+    /// [`Interface::solve`] for an incident wave given by its wave-normal
+    /// direction (see [`Interface::incident_k`]).
+    pub fn solve_direction(
+        &self,
+        side: Side,
+        mode: Mode,
+        direction: DVec3,
+    ) -> Result<Scattering, InterfaceError> {
+        let k = self.incident_k(side, mode, direction)?;
+        self.solve(side, mode, k)
+    }
+
+    /// The forward problem by the general 4×4 boundary-condition solve
+    /// (works for every pair of media).
+    pub fn solve_4x4(
+        &self,
+        side: Side,
+        mode: Mode,
+        t: DVec3,
+    ) -> Result<Scattering, InterfaceError> {
+        if !t.is_finite() {
+            return Err(InterfaceError::BadVector("tangential wave vector"));
+        }
+        self.solver_in(side, mode, &self.frame(t))
+    }
+
+    fn solver_in(
+        &self,
+        side: Side,
+        mode: Mode,
+        frame: &TangentFrame,
+    ) -> Result<Scattering, InterfaceError> {
+        let incident = self.incident_wave_in(side, mode, frame)?;
+        let out = self.outgoing_waves(frame);
+        let system = BoundarySystem::new(frame, &out).ok_or(InterfaceError::Singular)?;
+        let a = system.solve(frame, &incident);
+        Ok(Scattering::assemble(incident, out, a))
+    }
+
+    /// The forward problem for two isotropic media by the closed-form
+    /// Fresnel coefficients.
+    pub fn solve_closed_form(
+        &self,
+        side: Side,
+        mode: Mode,
+        t: DVec3,
+    ) -> Result<Scattering, InterfaceError> {
+        if !t.is_finite() {
+            return Err(InterfaceError::BadVector("tangential wave vector"));
+        }
+        self.closed_form_in(side, mode, &self.frame(t))
+    }
+
+    fn closed_form_in(
+        &self,
+        side: Side,
+        mode: Mode,
+        frame: &TangentFrame,
+    ) -> Result<Scattering, InterfaceError> {
+        let (n1, n2) = match (*self.medium(side), *self.medium(side.opposite())) {
+            (Medium::Isotropic { n: n1 }, Medium::Isotropic { n: n2 }) => (n1, n2),
+            _ => return Err(InterfaceError::NotIsotropic),
+        };
+        let incident = self.incident_wave_in(side, mode, frame)?;
+        let out = self.outgoing_waves(frame);
+        // Q = |q| of the incident and transmitted waves (the same roots the
+        // eigenwaves use), then the closed forms.
+        let q1 = incident.q.re.abs();
+        let tr = &out[2 * side.opposite().index()];
+        let q2 = tr.q * side.opposite().sign();
+        let f = fresnel_from_normals(n1, n2, q1, q2);
+        let zero = Complex64::new(0.0, 0.0);
+        let (r, tt) = match mode {
+            Mode::S => ([f.rs, zero], [f.ts, zero]),
+            _ => ([zero, f.rp], [zero, f.tp]),
+        };
+        let mut a = [zero; 4];
+        let (ri, ti) = (2 * side.index(), 2 * side.opposite().index());
+        a[ri] = r[0];
+        a[ri + 1] = r[1];
+        a[ti] = tt[0];
+        a[ti + 1] = tt[1];
+        Ok(Scattering::assemble(incident, out, a))
+    }
+}
+
+/// The boundary-condition matrix for one tangential component, factored
+/// once: columns are the outgoing waves `[+₀, +₁, −₀, −₁]`, rows the
+/// tangential components `(E·s, E·u, H·s, H·u)`, side − columns negated so
+/// that `Σ₊ − Σ₋ = −(incident)` expresses continuity.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BoundarySystem {
+    lu: Lu4,
+}
+
+#[inline]
+fn tangential(frame: &TangentFrame, w: &Eigenwave) -> [Complex64; 4] {
+    [
+        w.e.dot_real(frame.s),
+        w.e.dot_real(frame.u),
+        w.h.dot_real(frame.s),
+        w.h.dot_real(frame.u),
+    ]
+}
+
+impl BoundarySystem {
+    #[inline]
+    pub(crate) fn new(frame: &TangentFrame, out: &[Eigenwave; 4]) -> Option<BoundarySystem> {
+        let mut m = [[Complex64::new(0.0, 0.0); 4]; 4];
+        for (j, w) in out.iter().enumerate() {
+            let v = tangential(frame, w);
+            let sgn = w.side.sign();
+            for (row, x) in v.iter().enumerate() {
+                m[row][j] = x * sgn;
+            }
+        }
+        Lu4::factor(m).map(|lu| BoundarySystem { lu })
+    }
+
+    /// Amplitudes `[+₀, +₁, −₀, −₁]` of the outgoing waves for an incident
+    /// wave of unit amplitude.
+    #[inline]
+    pub(crate) fn solve(&self, frame: &TangentFrame, incident: &Eigenwave) -> [Complex64; 4] {
+        // Incident on side σ: (+) fields − (−) fields = 0 with the incident
+        // wave on the σ side moves to the right as −σ v_i.
+        let v = tangential(frame, incident);
+        let sgn = -incident.side.sign();
+        self.lu
+            .solve([v[0] * sgn, v[1] * sgn, v[2] * sgn, v[3] * sgn])
+    }
+}
+
+/// `sqrt(|F_out| / |F_in|)`, the factor from amplitudes to energy-normalized
+/// amplitudes. A grazing incident wave (`F_in = 0`) carries no flux: in the
+/// limit all of it stays in the outgoing waves that graze too (the reflected
+/// copy of the incident wave, with `|r| → 1`), so those get factor 1 and all
+/// others 0.
+#[inline]
+pub(crate) fn energy_factor(f_out: f64, f_in: f64) -> f64 {
+    if f_in != 0.0 {
+        (f_out / f_in).abs().sqrt()
+    } else if f_out == 0.0 {
+        1.0
+    } else {
+        0.0
+    }
+}
+
+/// One outgoing wave of a forward solve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Outgoing {
+    pub wave: Eigenwave,
+    /// Complex amplitude `a` (field = `a · wave.e` for a unit incident wave).
+    pub amplitude: Complex64,
+    /// Energy-normalized amplitude `ã = a sqrt(|F_out|/|F_in|)` (0 when
+    /// evanescent).
+    pub normalized: Complex64,
+    /// Fraction of the incident normal energy flux, `|ã|²` (0 when
+    /// evanescent).
+    pub energy: f64,
+}
+
+impl Outgoing {
+    /// True when this wave is on the incident side.
+    #[inline]
+    pub fn is_reflected(&self, incident: &Eigenwave) -> bool {
+        self.wave.side == incident.side
+    }
+}
+
+/// The result of a forward solve: the incident wave and the four outgoing
+/// modes, reflected pair first: `[reflected mode₀, reflected mode₁,
+/// transmitted mode₀, transmitted mode₁]` with modes `(s, p)` or `(o, e)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Scattering {
+    pub incident: Eigenwave,
+    pub outgoing: [Outgoing; 4],
+}
+
+impl Scattering {
+    /// Build from outgoing waves and amplitudes in physical-side order
+    /// `[+₀, +₁, −₀, −₁]`.
+    fn assemble(incident: Eigenwave, out: [Eigenwave; 4], a: [Complex64; 4]) -> Scattering {
+        let f_in = incident.flux;
+        let make = |j: usize| {
+            let w = out[j];
+            let normalized = a[j] * energy_factor(w.flux, f_in);
+            Outgoing {
+                wave: w,
+                amplitude: a[j],
+                normalized,
+                energy: normalized.norm_sqr(),
+            }
+        };
+        let (r, t) = (
+            2 * incident.side.index(),
+            2 * incident.side.opposite().index(),
+        );
+        Scattering {
+            incident,
+            outgoing: [make(r), make(r + 1), make(t), make(t + 1)],
+        }
+    }
+
+    /// The two reflected modes.
+    #[inline]
+    pub fn reflected(&self) -> &[Outgoing] {
+        &self.outgoing[..2]
+    }
+
+    /// The two transmitted modes.
+    #[inline]
+    pub fn transmitted(&self) -> &[Outgoing] {
+        &self.outgoing[2..]
+    }
+
+    /// Sum of the energy fractions of all outgoing waves (1 up to rounding).
+    #[inline]
+    pub fn energy_sum(&self) -> f64 {
+        self.outgoing.iter().map(|o| o.energy).sum()
+    }
+
+    /// The outgoing wave of `side` and `mode`, if any.
+    #[inline]
+    pub fn find(&self, side: Side, mode: Mode) -> Option<&Outgoing> {
+        self.outgoing
+            .iter()
+            .find(|o| o.wave.side == side && o.wave.mode == mode)
+    }
+
+    /// The total outgoing field `Σ a_j E_j` on `side` (physical, independent
+    /// of how each mode's field vector is chosen).
+    #[inline]
+    pub fn field_on(&self, side: Side) -> CVec3 {
+        self.outgoing
+            .iter()
+            .filter(|o| o.wave.side == side)
+            .fold(CVec3::ZERO, |acc, o| acc + o.wave.e.scale(o.amplitude))
+    }
+}
