@@ -16,6 +16,7 @@
 //! - [`image`]: writing and reading images (OpenImageIO when built with the
 //!   `native` feature).
 //! - [`geometry`]: meshes and their loading.
+//! - [`scene`]: scene files (TOML), validated into what the renderer reads.
 //! - [`render`]: camera, deterministic sampling, the integrator, the film.
 //! - [`cli`]: the command line.
 #![deny(unsafe_code)]
@@ -29,6 +30,7 @@ pub mod material;
 pub mod native;
 pub mod optics;
 pub mod render;
+pub mod scene;
 pub mod spectrum;
 
 /// spar's version, with the git revision when built from a checkout.

@@ -6,6 +6,7 @@ use clap::{Parser, Subcommand};
 use std::fmt;
 
 pub mod interface;
+pub mod render;
 
 /// spar: renders polarized light in cut gems and birefringent crystals.
 #[derive(Parser, Debug)]
@@ -17,6 +18,8 @@ pub struct Cli {
 
 #[derive(Subcommand, Debug)]
 pub enum Command {
+    /// Render a scene (default: the embedded calcite gem) to images.
+    Render(render::RenderArgs),
     /// Solve one interface: every outgoing wave for one incident wave.
     Interface(interface::InterfaceArgs),
 }
@@ -62,6 +65,7 @@ pub fn main() -> i32 {
         }
     };
     let result = match cli.command {
+        Command::Render(args) => render::run(&args),
         Command::Interface(args) => interface::run(&args, &mut std::io::stdout().lock()),
     };
     match result {

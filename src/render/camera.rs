@@ -58,6 +58,14 @@ impl Camera {
         })
     }
 
+    /// The same camera with another image size (the field of view stays
+    /// vertical).
+    pub fn with_resolution(mut self, width: u32, height: u32) -> Camera {
+        self.width = width.max(1);
+        self.height = height.max(1);
+        self
+    }
+
     /// Unit direction through film position (`fx`, `fy`) in pixels, (0, 0)
     /// the top-left corner of the image, (width, height) the bottom-right.
     pub fn direction(&self, fx: f64, fy: f64) -> DVec3 {

@@ -1,0 +1,55 @@
+//! The film: per pixel and per traced wavelength, the sum over the pixel's
+//! samples of the Stokes parameters of the arriving light, in the pixel's
+//! polarization frame (see [`super::camera`]). Matrices are summed before
+//! anything is derived from them (optics.md §2); the division by the sample
+//! count happens once, when a value is read.
+
+/// Per-pixel Stokes sums for a set of wavelengths.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Film {
+    pub width: u32,
+    pub height: u32,
+    /// The traced wavelengths, nm, in the order of the data.
+    pub lambdas: Vec<f64>,
+    /// Samples summed into every pixel.
+    pub samples: u32,
+    /// `[S0, S1, S2, S3]` sums, index `(y * width + x) * lambdas.len() + i`.
+    pub data: Vec<[f64; 4]>,
+}
+
+impl Film {
+    /// A black film.
+    pub fn new(width: u32, height: u32, lambdas: Vec<f64>, samples: u32) -> Film {
+        let n = width as usize * height as usize * lambdas.len();
+        Film {
+            width,
+            height,
+            lambdas,
+            samples,
+            data: vec![[0.0; 4]; n],
+        }
+    }
+
+    /// The index of wavelength `lambda_nm` in the film, if traced.
+    pub fn lambda_index(&self, lambda_nm: f64) -> Option<usize> {
+        self.lambdas
+            .iter()
+            .position(|&l| (l - lambda_nm).abs() < 1e-9)
+    }
+
+    /// Mean Stokes parameters of pixel (x, y) at wavelength index `i`.
+    #[inline]
+    pub fn stokes(&self, x: u32, y: u32, i: usize) -> [f64; 4] {
+        let s = self.data[(y as usize * self.width as usize + x as usize) * self.lambdas.len() + i];
+        let k = 1.0 / self.samples.max(1) as f64;
+        [s[0] * k, s[1] * k, s[2] * k, s[3] * k]
+    }
+
+    /// The mutable sums of one pixel, all wavelengths.
+    #[inline]
+    pub fn pixel_mut(&mut self, x: u32, y: u32) -> &mut [[f64; 4]] {
+        let n = self.lambdas.len();
+        let start = (y as usize * self.width as usize + x as usize) * n;
+        &mut self.data[start..start + n]
+    }
+}

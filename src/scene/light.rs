@@ -1,0 +1,316 @@
+//! Rectangular one-sided area lights: emission spectrum (radiance scale ×
+//! texture spectrum × D65) and polarization (unpolarized, an ideal linear
+//! polarizer, or a virtual calcite plate that keeps one of its two waves).
+
+use super::file::{FilterDef, LightDef, PolarizationDef};
+use super::{finite3, LocFns, SceneError};
+use crate::optics::Coherence;
+use crate::spectrum::{cie, SigmoidSpectrum};
+use glam::DVec3;
+use num_complex::Complex64;
+use std::path::Path;
+use toml::Spanned;
+
+/// Which wave a virtual calcite plate keeps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PlateWave {
+    Ordinary,
+    Extraordinary,
+}
+
+/// The polarization of a light's emission.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Polarization {
+    Unpolarized,
+    /// Behind an ideal linear polarizer with this transmission axis (a unit
+    /// vector in the light's plane): half the radiance, fully polarized
+    /// along the axis projected transverse to each ray.
+    Linear {
+        axis: DVec3,
+    },
+    /// Behind a virtual calcite plate of this optic axis that keeps only the
+    /// ordinary (E ∥ k × c) or the extraordinary (E ⊥ that, in the plane of
+    /// k and c) wave: half the radiance, polarized by the ray's direction.
+    CalcitePlate {
+        keep: PlateWave,
+        axis: DVec3,
+    },
+}
+
+/// An RGB texture as per-texel smooth reflectance spectra (Jakob & Hanika
+/// 2019), row 0 along the light's first edge.
+#[derive(Clone, Debug)]
+pub struct Texture {
+    pub width: usize,
+    pub height: usize,
+    pub texels: Vec<SigmoidSpectrum>,
+}
+
+impl Texture {
+    /// The texture's spectra for linear RGB texels (row-major, row 0 first).
+    pub fn from_linear_rgb(width: usize, height: usize, rgb: &[[f64; 3]]) -> Texture {
+        assert_eq!(rgb.len(), width * height);
+        Texture {
+            width,
+            height,
+            texels: rgb
+                .iter()
+                .map(|&c| SigmoidSpectrum::from_linear_srgb(c))
+                .collect(),
+        }
+    }
+
+    /// The texel spectrum at (s, t) ∈ [0, 1]² (nearest texel: a box filter
+    /// at texel resolution).
+    #[inline]
+    pub fn at(&self, s: f64, t: f64) -> &SigmoidSpectrum {
+        let x = ((s * self.width as f64) as usize).min(self.width - 1);
+        let y = ((t * self.height as f64) as usize).min(self.height - 1);
+        &self.texels[y * self.width + x]
+    }
+}
+
+/// A rectangle c0 + s·u + t·v, (s, t) ∈ [0, 1]², emitting toward u × v.
+#[derive(Clone, Debug)]
+pub struct Light {
+    pub origin: DVec3,
+    pub u: DVec3,
+    pub v: DVec3,
+    /// Unit normal of the emitting side.
+    pub normal: DVec3,
+    pub radiance: f64,
+    pub texture: Option<Texture>,
+    pub polarization: Polarization,
+}
+
+impl Light {
+    /// Where a ray from `o` along `d` meets the emitting face: (t, s, tt)
+    /// with t the ray parameter and (s, tt) the face coordinates. Rays that
+    /// meet the back face, or travel in its plane, see nothing.
+    #[inline]
+    pub fn hit(&self, o: DVec3, d: DVec3) -> Option<(f64, f64, f64)> {
+        let den = d.dot(self.normal);
+        if den >= 0.0 || !den.is_finite() {
+            return None;
+        }
+        let t = (self.origin - o).dot(self.normal) / den;
+        if !(t > 0.0) {
+            return None;
+        }
+        let p = o + t * d - self.origin;
+        // Solve p = s u + tt v in the plane (u and v need not be orthogonal).
+        let (uu, uv, vv) = (self.u.dot(self.u), self.u.dot(self.v), self.v.dot(self.v));
+        let (pu, pv) = (p.dot(self.u), p.dot(self.v));
+        let det = uu * vv - uv * uv;
+        let s = (pu * vv - pv * uv) / det;
+        let tt = (pv * uu - pu * uv) / det;
+        ((0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&tt)).then_some((t, s, tt))
+    }
+
+    /// Spectral radiance (in units of D65) at face coordinates (s, t),
+    /// before any filter.
+    #[inline]
+    pub fn spectral_radiance(&self, s: f64, t: f64, lambda_nm: f64) -> f64 {
+        let reflectance = self
+            .texture
+            .as_ref()
+            .map_or(1.0, |tex| tex.at(s, t).eval(lambda_nm));
+        self.radiance * reflectance * cie::d65(lambda_nm)
+    }
+
+    /// The largest radiance the light sends at any wavelength in 380–780 nm
+    /// (textures never exceed 1), for pruning bounds.
+    pub fn max_radiance(&self) -> f64 {
+        self.radiance * max_d65()
+    }
+
+    /// The coherence matrix of the light leaving face coordinates (s, t)
+    /// along unit direction `k` (from the light into the scene), expressed
+    /// in the orthonormal basis (x, y) transverse to `k`.
+    pub fn emitted(
+        &self,
+        s: f64,
+        t: f64,
+        lambda_nm: f64,
+        k: DVec3,
+        x: DVec3,
+        y: DVec3,
+    ) -> Coherence {
+        let l = self.spectral_radiance(s, t, lambda_nm);
+        let field = match self.polarization {
+            Polarization::Unpolarized => return Coherence::unpolarized(l),
+            Polarization::Linear { axis } => axis,
+            Polarization::CalcitePlate { keep, axis } => {
+                // Ordinary wave: E ∥ k × c (optics.md §4); along the axis the
+                // two waves are degenerate: take the light's first edge.
+                let mut e_o = k.cross(axis);
+                if e_o.length_squared() < 1e-24 {
+                    e_o = self.u;
+                }
+                match keep {
+                    PlateWave::Ordinary => e_o,
+                    PlateWave::Extraordinary => k.cross(e_o),
+                }
+            }
+        };
+        let e = (field - field.dot(k) * k).normalize_or_zero();
+        if e == DVec3::ZERO {
+            // The filter's axis is along the ray: it passes nothing.
+            return Coherence::zero(2);
+        }
+        let jones = [Complex64::new(e.dot(x), 0.0), Complex64::new(e.dot(y), 0.0)];
+        // An ideal filter passes half of unpolarized light.
+        Coherence::from_jones_vector(jones).scaled(0.5 * l)
+    }
+}
+
+fn max_d65() -> f64 {
+    (380..=780).map(|l| cie::d65(l as f64)).fold(0.0, f64::max)
+}
+
+/// Validates a `[[light]]` table.
+pub(crate) fn resolve(
+    loc: &LocFns<'_>,
+    l: &Spanned<LightDef>,
+    base: &Path,
+    index: usize,
+) -> Result<Light, SceneError> {
+    let field = |f: &str| format!("light[{index}].{f}");
+    let def = l.get_ref();
+    let corners = def.corners.get_ref();
+    let c: Vec<DVec3> = match corners
+        .iter()
+        .map(|&p| finite3(p))
+        .collect::<Option<Vec<_>>>()
+    {
+        Some(c) => c,
+        None => {
+            return loc.err(
+                def.corners.span(),
+                field("corners"),
+                "components must be finite numbers",
+            )
+        }
+    };
+    let u = c[1] - c[0];
+    let v = c[3] - c[0];
+    let area = u.cross(v);
+    let scale = u.length().max(v.length());
+    if !(area.length() > 1e-12 * scale * scale) {
+        return loc.err(
+            def.corners.span(),
+            field("corners"),
+            "the corners do not span a rectangle (zero area)",
+        );
+    }
+    // The fourth corner must close the parallelogram.
+    if (c[0] + u + v - c[2]).length() > 1e-6 * scale {
+        return loc.err(
+            def.corners.span(),
+            field("corners"),
+            "corners must be listed around the rectangle (c2 = c1 + c3 − c0) and lie in one plane",
+        );
+    }
+    let normal = area.normalize();
+    let radiance = *def.radiance.get_ref();
+    if !(radiance.is_finite() && radiance >= 0.0) {
+        return loc.err(
+            def.radiance.span(),
+            field("radiance"),
+            "must be a finite number ≥ 0",
+        );
+    }
+    let texture = match &def.texture {
+        None => None,
+        Some(t) => Some(load_texture(loc, t, base, &field("texture"))?),
+    };
+    let polarization = match &def.polarization {
+        None => Polarization::Unpolarized,
+        Some(p) => match p.get_ref() {
+            PolarizationDef::Named(n) if n == "unpolarized" => Polarization::Unpolarized,
+            PolarizationDef::Named(n) => {
+                return loc.err(
+                    p.span(),
+                    field("polarization"),
+                    format!("unknown polarization `{n}`: use \"unpolarized\", {{ linear = [x, y, z] }} or {{ calcite_plate = {{ keep = \"o\", axis = [x, y, z] }} }}"),
+                )
+            }
+            PolarizationDef::Filter(FilterDef::Linear(a)) => {
+                let a = finite3(*a).unwrap_or(DVec3::ZERO);
+                let in_plane = a - a.dot(normal) * normal;
+                if !(in_plane.length() > 1e-9 * a.length()) || a == DVec3::ZERO {
+                    return loc.err(p.span(), field("polarization.linear"), "the polarizer's axis must be a finite vector with a component in the light's plane");
+                }
+                Polarization::Linear { axis: in_plane.normalize() }
+            }
+            PolarizationDef::Filter(FilterDef::CalcitePlate(plate)) => {
+                let keep = match plate.keep.as_str() {
+                    "o" | "ordinary" => PlateWave::Ordinary,
+                    "e" | "extraordinary" => PlateWave::Extraordinary,
+                    other => return loc.err(p.span(), field("polarization.calcite_plate.keep"), format!("`{other}`: keep \"o\" or \"e\"")),
+                };
+                let axis = finite3(plate.axis).and_then(|a| (a.length() > 0.0).then(|| a.normalize()));
+                let Some(axis) = axis else {
+                    return loc.err(p.span(), field("polarization.calcite_plate.axis"), "must be a finite non-zero vector");
+                };
+                Polarization::CalcitePlate { keep, axis }
+            }
+        },
+    };
+    let _ = l.span();
+    Ok(Light {
+        origin: c[0],
+        u,
+        v,
+        normal,
+        radiance,
+        texture,
+        polarization,
+    })
+}
+
+fn load_texture(
+    loc: &LocFns<'_>,
+    t: &Spanned<String>,
+    base: &Path,
+    field: &str,
+) -> Result<Texture, SceneError> {
+    let name = t.get_ref();
+    if let Some(b) = name.strip_prefix("builtin:") {
+        return super::builtin::texture(b).map_or_else(
+            || {
+                loc.err(
+                    t.span(),
+                    field,
+                    format!(
+                        "no built-in texture `{b}`; built-in textures: {}",
+                        super::builtin::TEXTURE_NAMES.join(", ")
+                    ),
+                )
+            },
+            Ok,
+        );
+    }
+    let path = base.join(name);
+    let image = crate::image::read(&path).or_else(|e| loc.err(t.span(), field, e.to_string()))?;
+    let rgba = image
+        .rgba()
+        .or_else(|e| loc.err(t.span(), field, e.to_string()))?;
+    let mut rgb = Vec::with_capacity(rgba.len());
+    for (i, p) in rgba.iter().enumerate() {
+        if !p.iter().all(|c| c.is_finite()) {
+            let (x, y) = (i % image.width(), i / image.width());
+            return loc.err(
+                t.span(),
+                field,
+                format!("{}: pixel ({x}, {y}) is not finite", path.display()),
+            );
+        }
+        rgb.push([p[0] as f64, p[1] as f64, p[2] as f64]);
+    }
+    Ok(Texture::from_linear_rgb(
+        image.width(),
+        image.height(),
+        &rgb,
+    ))
+}

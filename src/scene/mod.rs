@@ -1,0 +1,511 @@
+//! Scenes: the file format ([`file`]), and the validated scene the
+//! renderer reads (world-space meshes with their materials, lights, camera,
+//! settings). Every error names the file, the line and the field.
+
+pub mod builtin;
+pub mod file;
+pub mod light;
+
+use crate::geometry::{parse_obj, Mesh};
+use crate::material::{Dispersion, Material};
+use crate::render::camera::Camera;
+use crate::spectrum::WavelengthSet;
+use file::{DispersionDef, DispersionModel, ScaleDef, SceneFile, TransformDef, WavelengthsDef};
+use glam::{DAffine3, DMat3, DVec3};
+pub use light::{Light, Polarization, Texture};
+use std::fmt;
+use std::path::{Path, PathBuf};
+use toml::Spanned;
+
+/// A scene error, with where it is.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneError {
+    pub file: String,
+    pub line: Option<usize>,
+    pub field: String,
+    pub message: String,
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.line {
+            Some(line) => write!(f, "{}:{line}: ", self.file)?,
+            None => write!(f, "{}: ", self.file)?,
+        }
+        if !self.field.is_empty() {
+            write!(f, "{}: ", self.field)?;
+        }
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+/// Render settings from the scene's `[render]` table.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderSettings {
+    pub wavelengths: WavelengthSet,
+    pub max_depth: u32,
+    /// A subtree is skipped when it can contribute less than this fraction
+    /// of the brightest emitter's radiance; 0 disables pruning.
+    pub prune: f64,
+    pub seed: u64,
+}
+
+/// Defaults: 21 wavelengths, depth 13 (the seed paper's), pruning at 1e-4
+/// of the brightest emitter, seed 0.
+pub const DEFAULT_WAVELENGTHS: usize = 21;
+pub const DEFAULT_MAX_DEPTH: u32 = 13;
+pub const DEFAULT_PRUNE: f64 = 1e-4;
+
+/// One solid object: a closed mesh in world space and its material (a
+/// crystal's optic axis already in world space).
+#[derive(Clone, Debug)]
+pub struct Object {
+    pub name: String,
+    pub mesh: Mesh,
+    pub material: Material,
+}
+
+/// A validated scene.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub camera: Camera,
+    pub samples: u32,
+    pub settings: RenderSettings,
+    pub objects: Vec<Object>,
+    pub lights: Vec<Light>,
+    /// Unpolarized background radiance, in units of D65.
+    pub background: f64,
+    /// The scene file's text, for the render's identity.
+    pub source: String,
+}
+
+/// Turns byte offsets into line numbers for one file.
+struct Locator<'a> {
+    file: String,
+    text: &'a str,
+}
+
+impl Locator<'_> {
+    fn line(&self, span: std::ops::Range<usize>) -> Option<usize> {
+        if span.start == 0 && span.end == 0 {
+            return None; // a default value: it has no place in the file
+        }
+        Some(
+            self.text[..span.start.min(self.text.len())]
+                .matches('\n')
+                .count()
+                + 1,
+        )
+    }
+
+    fn err<T>(
+        &self,
+        span: std::ops::Range<usize>,
+        field: impl Into<String>,
+        message: impl Into<String>,
+    ) -> Result<T, SceneError> {
+        Err(SceneError {
+            file: self.file.clone(),
+            line: self.line(span),
+            field: field.into(),
+            message: message.into(),
+        })
+    }
+}
+
+impl Scene {
+    /// Loads a scene file; relative paths inside it are relative to its
+    /// directory.
+    pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+            file: file.clone(),
+            line: None,
+            field: String::new(),
+            message: format!("cannot read: {e}"),
+        })?;
+        let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        Scene::parse(&text, &file, &base)
+    }
+
+    /// Parses scene text. `file` names it in errors; `base` resolves
+    /// relative paths.
+    pub fn parse(text: &str, file: &str, base: &Path) -> Result<Scene, SceneError> {
+        let loc = Locator {
+            file: file.to_string(),
+            text,
+        };
+        let def: SceneFile = toml::from_str(text).map_err(|e| {
+            let line = e.span().and_then(|s| loc.line(s));
+            SceneError {
+                file: file.to_string(),
+                line,
+                field: String::new(),
+                message: e.message().trim().to_string(),
+            }
+        })?;
+
+        // Camera.
+        let c = &def.camera;
+        let eye = vec3(&loc, &c.eye, "camera.eye")?;
+        let look_at = vec3(&loc, &c.look_at, "camera.look_at")?;
+        let up = vec3(&loc, &c.up, "camera.up")?;
+        let [w, h] = *c.resolution.get_ref();
+        if w == 0 || h == 0 || w > 65536 || h > 65536 {
+            return loc.err(
+                c.resolution.span(),
+                "camera.resolution",
+                format!("{w}×{h} is not a usable resolution (1 to 65536 per side)"),
+            );
+        }
+        let fov = *c.fov.get_ref();
+        let camera = Camera::new(eye, look_at, up, fov, w, h)
+            .or_else(|m| loc.err(c.eye.span(), "camera", m))?;
+        let samples = *c.samples.get_ref();
+        if samples == 0 {
+            return loc.err(c.samples.span(), "camera.samples", "must be at least 1");
+        }
+
+        // Render settings.
+        let r = &def.render;
+        let wavelengths = match &r.wavelengths {
+            None => WavelengthSet::uniform(DEFAULT_WAVELENGTHS).expect("default set"),
+            Some(s) => match s.get_ref() {
+                WavelengthsDef::Count(n) => WavelengthSet::uniform(*n as usize),
+                WavelengthsDef::List(list) => WavelengthSet::from_list(list),
+            }
+            .or_else(|e| loc.err(s.span(), "render.wavelengths", e.to_string()))?,
+        };
+        let max_depth = r
+            .max_depth
+            .as_ref()
+            .map_or(DEFAULT_MAX_DEPTH, |d| *d.get_ref());
+        if let Some(d) = &r.max_depth {
+            if *d.get_ref() > 1000 {
+                return loc.err(d.span(), "render.max_depth", "must be at most 1000");
+            }
+        }
+        let prune = r.prune.as_ref().map_or(DEFAULT_PRUNE, |p| *p.get_ref());
+        if let Some(p) = &r.prune {
+            if !(p.get_ref().is_finite() && *p.get_ref() >= 0.0) {
+                return loc.err(
+                    p.span(),
+                    "render.prune",
+                    "must be a number ≥ 0 (0: no pruning)",
+                );
+            }
+        }
+        let settings = RenderSettings {
+            wavelengths,
+            max_depth,
+            prune,
+            seed: r.seed.unwrap_or(0),
+        };
+
+        // Objects.
+        let mut objects = Vec::new();
+        for (i, o) in def.objects.iter().enumerate() {
+            let field = |f: &str| format!("object[{i}].{f}");
+            let o_span = o.span();
+            let o = o.get_ref();
+            let material = resolve_material(&loc, &def, &o.medium, &field("medium"))?;
+            let transform = match &o.transform {
+                None => DAffine3::IDENTITY,
+                Some(t) => transform(&loc, t, &field("transform"))?,
+            };
+            let material = match (&o.optic_axis, material.is_uniaxial()) {
+                (Some(a), false) => {
+                    return loc.err(
+                        a.span(),
+                        field("optic_axis"),
+                        format!(
+                            "medium `{}` is isotropic: it has no optic axis",
+                            o.medium.get_ref()
+                        ),
+                    );
+                }
+                (axis, true) => {
+                    let object_axis = match axis {
+                        Some(a) => vec3(&loc, a, &field("optic_axis"))?,
+                        None => DVec3::Z,
+                    };
+                    let world = transform.matrix3 * object_axis;
+                    material.with_axis(world).or_else(|m| {
+                        loc.err(
+                            axis.as_ref().map_or(o_span.clone(), |a| a.span()),
+                            field("optic_axis"),
+                            m,
+                        )
+                    })?
+                }
+                (None, false) => material,
+            };
+            let mesh = load_mesh(&loc, &o.mesh, base, &field("mesh"))?;
+            mesh.check_closed_and_oriented().or_else(|e| {
+                loc.err(
+                    o.mesh.span(),
+                    field("mesh"),
+                    format!("{}: {e}", o.mesh.get_ref()),
+                )
+            })?;
+            let mesh = mesh.transformed(&transform);
+            objects.push(Object {
+                name: o.mesh.get_ref().clone(),
+                mesh,
+                material,
+            });
+        }
+
+        // Lights.
+        let mut lights = Vec::new();
+        for (i, l) in def.lights.iter().enumerate() {
+            lights.push(light::resolve(&loc_fns(&loc), l, base, i)?);
+        }
+        let background = match &def.background {
+            None => 0.0,
+            Some(b) => {
+                let v = *b.radiance.get_ref();
+                if !(v.is_finite() && v >= 0.0) {
+                    return loc.err(
+                        b.radiance.span(),
+                        "background.radiance",
+                        "must be a finite number ≥ 0",
+                    );
+                }
+                v
+            }
+        };
+        if lights.is_empty() && background == 0.0 {
+            return Err(SceneError {
+                file: file.to_string(),
+                line: None,
+                field: String::new(),
+                message: "the scene has no light and no background: the image would be black"
+                    .into(),
+            });
+        }
+        Ok(Scene {
+            camera,
+            samples,
+            settings,
+            objects,
+            lights,
+            background,
+            source: text.to_string(),
+        })
+    }
+
+    /// The brightest radiance any emitter or the background can send, in
+    /// units of D65 (the bound pruning multiplies by).
+    pub fn max_radiance(&self) -> f64 {
+        self.lights
+            .iter()
+            .map(|l| l.max_radiance())
+            .fold(self.background, f64::max)
+    }
+
+    /// True when no medium's index depends on wavelength.
+    pub fn is_dispersive(&self) -> bool {
+        self.objects.iter().any(|o| o.material.is_dispersive())
+    }
+
+    /// True when some object is a uniaxial crystal.
+    pub fn has_crystals(&self) -> bool {
+        self.objects.iter().any(|o| o.material.is_uniaxial())
+    }
+}
+
+/// Error constructor handed to submodules.
+pub(crate) struct LocFns<'a> {
+    loc: &'a Locator<'a>,
+}
+
+impl LocFns<'_> {
+    pub(crate) fn err<T>(
+        &self,
+        span: std::ops::Range<usize>,
+        field: impl Into<String>,
+        message: impl Into<String>,
+    ) -> Result<T, SceneError> {
+        self.loc.err(span, field, message)
+    }
+}
+
+fn loc_fns<'a>(loc: &'a Locator<'a>) -> LocFns<'a> {
+    LocFns { loc }
+}
+
+pub(crate) fn finite3(v: [f64; 3]) -> Option<DVec3> {
+    let v = DVec3::from_array(v);
+    v.is_finite().then_some(v)
+}
+
+fn vec3(loc: &Locator<'_>, v: &Spanned<[f64; 3]>, field: &str) -> Result<DVec3, SceneError> {
+    finite3(*v.get_ref()).map_or_else(
+        || loc.err(v.span(), field, "components must be finite numbers"),
+        Ok,
+    )
+}
+
+fn dispersion(d: &DispersionDef) -> Dispersion {
+    match d {
+        DispersionDef::Constant(n) => Dispersion::Constant(*n),
+        DispersionDef::Model(DispersionModel::Sellmeier { a, b, c }) => Dispersion::sellmeier(
+            *a,
+            &b.iter().copied().zip(c.iter().copied()).collect::<Vec<_>>(),
+        ),
+        DispersionDef::Model(DispersionModel::SellmeierPoles { a, b, poles }) => {
+            Dispersion::sellmeier_poles(
+                *a,
+                &b.iter()
+                    .copied()
+                    .zip(poles.iter().copied())
+                    .collect::<Vec<_>>(),
+            )
+        }
+        DispersionDef::Model(DispersionModel::Cauchy { a, b, c }) => Dispersion::Cauchy {
+            a: *a,
+            b: *b,
+            c: *c,
+        },
+    }
+}
+
+fn check_terms(
+    loc: &Locator<'_>,
+    d: &Spanned<DispersionDef>,
+    field: &str,
+) -> Result<(), SceneError> {
+    let lens = match d.get_ref() {
+        DispersionDef::Model(DispersionModel::Sellmeier { b, c, .. }) => {
+            Some((b.len(), c.len(), "c"))
+        }
+        DispersionDef::Model(DispersionModel::SellmeierPoles { b, poles, .. }) => {
+            Some((b.len(), poles.len(), "poles"))
+        }
+        _ => None,
+    };
+    match lens {
+        Some((nb, nc, what)) if nb != nc => loc.err(
+            d.span(),
+            field,
+            format!("b has {nb} terms but {what} has {nc}"),
+        ),
+        _ => Ok(()),
+    }
+}
+
+fn resolve_material(
+    loc: &Locator<'_>,
+    def: &SceneFile,
+    name: &Spanned<String>,
+    field: &str,
+) -> Result<Material, SceneError> {
+    let key = name.get_ref();
+    if let Some(m) = def.media.get(key) {
+        let md = m.get_ref();
+        let mfield = format!("media.{key}");
+        return match (&md.n, &md.n_o, &md.n_e) {
+            (Some(n), None, None) => {
+                check_terms(loc, n, &format!("{mfield}.n"))?;
+                Material::isotropic(key.clone(), dispersion(n.get_ref()))
+                    .or_else(|e| loc.err(n.span(), format!("{mfield}.n"), e))
+            }
+            (None, Some(no), Some(ne)) => {
+                check_terms(loc, no, &format!("{mfield}.n_o"))?;
+                check_terms(loc, ne, &format!("{mfield}.n_e"))?;
+                Material::uniaxial(
+                    key.clone(),
+                    dispersion(no.get_ref()),
+                    dispersion(ne.get_ref()),
+                )
+                .or_else(|e| loc.err(m.span(), mfield.clone(), e))
+            }
+            _ => loc.err(
+                m.span(),
+                mfield,
+                "give either `n` (isotropic) or both `n_o` and `n_e` (uniaxial)",
+            ),
+        };
+    }
+    Material::parse(key).or_else(|e| {
+        let custom = if def.media.is_empty() {
+            String::new()
+        } else {
+            format!(
+                " (media defined in this file: {})",
+                def.media.keys().cloned().collect::<Vec<_>>().join(", ")
+            )
+        };
+        loc.err(name.span(), field, format!("{e}{custom}"))
+    })
+}
+
+fn transform(
+    loc: &Locator<'_>,
+    t: &Spanned<TransformDef>,
+    field: &str,
+) -> Result<DAffine3, SceneError> {
+    let d = t.get_ref();
+    let scale = match &d.scale {
+        None => DVec3::ONE,
+        Some(ScaleDef::Uniform(s)) => DVec3::splat(*s),
+        Some(ScaleDef::PerAxis(s)) => DVec3::from_array(*s),
+    };
+    if !scale.is_finite() || scale.x == 0.0 || scale.y == 0.0 || scale.z == 0.0 {
+        return loc.err(
+            t.span(),
+            format!("{field}.scale"),
+            "must be finite and non-zero",
+        );
+    }
+    let rot = d.rotate.unwrap_or([0.0; 3]);
+    let translate = d.translate.unwrap_or([0.0; 3]);
+    if !rot.iter().chain(translate.iter()).all(|v| v.is_finite()) {
+        return loc.err(t.span(), field, "rotate and translate must be finite");
+    }
+    let r = DMat3::from_rotation_z(rot[2].to_radians())
+        * DMat3::from_rotation_y(rot[1].to_radians())
+        * DMat3::from_rotation_x(rot[0].to_radians());
+    Ok(DAffine3::from_mat3_translation(
+        r * DMat3::from_diagonal(scale),
+        DVec3::from_array(translate),
+    ))
+}
+
+fn load_mesh(
+    loc: &Locator<'_>,
+    mesh: &Spanned<String>,
+    base: &Path,
+    field: &str,
+) -> Result<Mesh, SceneError> {
+    let name = mesh.get_ref();
+    if let Some(builtin) = name.strip_prefix("builtin:") {
+        let text = builtin::mesh(builtin).map_or_else(
+            || {
+                loc.err(
+                    mesh.span(),
+                    field,
+                    format!(
+                        "no built-in mesh `{builtin}`; built-in meshes: {}",
+                        builtin::MESH_NAMES.join(", ")
+                    ),
+                )
+            },
+            Ok,
+        )?;
+        return parse_obj(text, name).or_else(|e| loc.err(mesh.span(), field, e.to_string()));
+    }
+    let path: PathBuf = base.join(name);
+    let text = std::fs::read_to_string(&path).or_else(|e| {
+        loc.err(
+            mesh.span(),
+            field,
+            format!("cannot read {}: {e}", path.display()),
+        )
+    })?;
+    parse_obj(&text, &path.display().to_string())
+        .or_else(|e| loc.err(mesh.span(), field, e.to_string()))
+}
