@@ -312,11 +312,17 @@ impl Coherence {
     pub fn stokes(&self) -> Stokes {
         let (scale, s) = self.normalized_stokes();
         let back = |v: f64| finite(v * scale);
-        Stokes {
+        let out = Stokes {
             s0: back(s.s0),
             s1: back(s.s1),
             s2: back(s.s2),
             s3: back(s.s3),
+        };
+        // Scaling back rounds each parameter separately (to one subnormal
+        // unit, at worst): keep S0 ≥ Ip exactly.
+        Stokes {
+            s0: out.s0.max(out.polarized_intensity()),
+            ..out
         }
     }
 

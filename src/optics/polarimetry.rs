@@ -17,7 +17,7 @@
 //! [`super::coherence`] on robustness). Formulas avoid `asin`/`tan` and
 //! divisions by quantities that can vanish: with `L = √(S1² + S2²)` and
 //! `Ip = √(L² + S3²)`, `tan χ = S3 / (Ip + L)` and
-//! `tan(½ asin(x)) = x / (1 + √(1 − x²))`.
+//! `tan(½ asin(|S3|/S0)) = |S3| / (S0 + √((S0 − Ip)(S0 + Ip) + L²))`.
 
 use super::coherence::{Coherence, Handedness, Stokes};
 use std::f64::consts::{FRAC_PI_2, PI};
@@ -88,9 +88,13 @@ impl Polarimetry {
         } else {
             (0.0, 0.0)
         };
-        let ellipticity_paper = if s.s0 > 0.0 {
-            let x = (s.s3.abs() / s.s0).min(1.0);
-            (x / (1.0 + (1.0 - x * x).max(0.0).sqrt())).clamp(0.0, 1.0)
+        // tan(½ asin(|S3|/S0)) = |S3| / (S0 + √(S0² − S3²)), with
+        // S0² − S3² = (S0 − Ip)(S0 + Ip) + L² written without cancellation:
+        // for a pure state it is exactly L², and the map exactly b/a.
+        let s0 = s.s0.max(ip);
+        let ellipticity_paper = if s0 > 0.0 {
+            let root = ((s0 - ip) * (s0 + ip) + l * l).sqrt();
+            (s.s3.abs() / (s0 + root)).clamp(0.0, 1.0)
         } else {
             0.0
         };
