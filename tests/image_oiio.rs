@@ -245,6 +245,29 @@ fn png_rgba_keeps_straight_alpha() {
 }
 
 #[test]
+fn png_with_four_data_channels_is_not_divided_by_the_fourth() {
+    // PNG has no place for a fourth channel but alpha; with no channel named
+    // A it must still come back as written, the other three undivided.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("four.png");
+    let img = Image::new(
+        2,
+        1,
+        names(&["S0", "S1", "S2", "S3"]),
+        vec![0.8, 0.6, 0.4, 0.5, 0.3, 0.2, 0.1, 0.0],
+    )
+    .unwrap();
+    assert_eq!(img.alpha_channel(), None);
+    image::write(&path, &img, WriteOptions::new(PixelType::U8)).unwrap();
+    let back = image::read(&path).unwrap();
+    for (i, (&got, &want)) in back.data().iter().zip(img.data()).enumerate() {
+        // The fourth channel is read back as alpha, which is never decoded.
+        let got = if i % 4 == 3 { got } else { srgb_encode(got) };
+        assert_close(got, want, 0.5 / 255.0 + 1e-5, &format!("value {i}"));
+    }
+}
+
+#[test]
 fn png_16bit_linear_is_recorded_as_linear() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("linear16.png");
@@ -460,23 +483,34 @@ fn threads_write_and_read_independent_files_at_once() {
                             "tif",
                             WriteOptions::new(PixelType::U16).with_encoding(Encoding::Linear),
                         ),
+                        // sRGB: decoding to linear runs on every thread too.
+                        ("png", WriteOptions::new(PixelType::U8)),
                     ] {
                         let path = dir.join(format!("t{t}-{k}.{ext}"));
                         image::write(&path, &img, options).unwrap();
                         let back = image::read(&path).unwrap();
-                        if ext == "exr" {
-                            assert_eq!(back.channel("S10").unwrap(), img.channel("S10").unwrap());
-                            assert_eq!(back.metadata()["spar:seed"], seed.to_string());
-                        } else {
-                            // TIFF has no channel names: R, G, B, then channel3.
-                            let got = back.data();
-                            for (i, (&g, &w)) in got.iter().zip(img.data()).enumerate() {
-                                assert_close(
-                                    g,
-                                    w,
-                                    1.0 / 65535.0,
-                                    &format!("{} [{i}]", path.display()),
+                        let what = path.display().to_string();
+                        match ext {
+                            "exr" => {
+                                assert_eq!(
+                                    back.channel("S10").unwrap(),
+                                    img.channel("S10").unwrap()
                                 );
+                                assert_eq!(back.metadata()["spar:seed"], seed.to_string());
+                            }
+                            // TIFF and PNG keep the order, not the names.
+                            "tif" => {
+                                for (&g, &w) in back.data().iter().zip(img.data()) {
+                                    assert_close(g, w, 1.0 / 65535.0, &what);
+                                }
+                            }
+                            // A PNG's fourth channel is alpha: not decoded.
+                            _ => {
+                                for (i, (&g, &w)) in back.data().iter().zip(img.data()).enumerate()
+                                {
+                                    let g = if i % 4 == 3 { g } else { srgb_encode(g) };
+                                    assert_close(g, w, 0.5 / 255.0 + 1e-5, &what);
+                                }
                             }
                         }
                     }

@@ -32,7 +32,8 @@
 //!
 //! # What each format keeps
 //! Channel names: EXR keeps any; PNG, TIFF and JPEG return `R`, `G`, `B`,
-//! `A` (or `Y` for one channel) whatever was written. Metadata: EXR keeps
+//! `A` (or `Y` for one channel) whatever was written, and a PNG's fourth
+//! channel is read back as alpha (so it is not decoded). Metadata: EXR keeps
 //! every string key; PNG keeps them as text chunks; TIFF and JPEG keep only
 //! the keys their formats know (`ImageDescription`, `Artist`, …). Formats
 //! that cannot store a sample type, a channel count or alpha make [`write`]

@@ -153,7 +153,11 @@ std::string write_image(const SparOiioWriteRequest& rq)
     if (format_name == "openexr" || format_name == "tiff")
         spec.attribute("compression", "zip");
     spec.attribute("oiio:ColorSpace", rq.color_space);
-    if (rq.alpha_channel >= 0 && rq.unassociated_alpha)
+    // Colours are premultiplied only if there is an alpha channel and the
+    // caller says so. Without this hint a writer may treat a fourth channel
+    // as premultiplying alpha even when alpha_channel is -1 (PNG does), and
+    // divide the colours by it.
+    if (rq.alpha_channel < 0 || rq.unassociated_alpha)
         spec.attribute("oiio:UnassociatedAlpha", 1);
 
     if (!out->open(rq.path, spec))

@@ -59,9 +59,10 @@ typedef struct SparOiioWriteRequest {
     int32_t pixel_type;
     /* Index of the alpha channel, or -1 for none. */
     int32_t alpha_channel;
-    /* Nonzero if colours are not premultiplied by alpha
-     * (sets `oiio:UnassociatedAlpha`, so PNG output is not un-premultiplied
-     * a second time). Ignored without an alpha channel. */
+    /* Nonzero if colours are not premultiplied by alpha: sets
+     * `oiio:UnassociatedAlpha`, so PNG output is not un-premultiplied a
+     * second time. Without an alpha channel it is set whatever this says
+     * (PNG would otherwise divide three channels by a fourth). */
     int32_t unassociated_alpha;
     /* How the values are already encoded, recorded as `oiio:ColorSpace`:
      * "linear" or "sRGB". Nothing is converted on write. JPEG can only
