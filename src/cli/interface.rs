@@ -1,12 +1,281 @@
 //! `spar interface`: solve one interface and print every outgoing wave.
-//! (work in progress)
+//!
+//! ```text
+//! spar interface --from calcite --to air --axis 0,1,1 --incident 0.3,0,-1 --mode e
+//! spar interface --from air --to n-bk7 --incident 1,0,-1 --mode s --json
+//! ```
+//!
+//! The incident wave comes from the `--from` medium (side + of the
+//! interface, into which `--normal` points) and must carry energy toward the
+//! interface. `--json` prints one object:
+//! `{"waves":[{"side","mode","k","ray","evanescent","energy"}…],"energy_sum"}`
+//! with the two reflected modes first, then the two transmitted ones. `k` is
+//! the real part of the wave vector (units of the vacuum wave number; for an
+//! evanescent wave its normal component is complex and only the real part is
+//! printed), `ray` the unit energy direction (tangential for an evanescent
+//! wave), `energy` the fraction of the incident normal energy flux.
 
 use super::CliError;
+use crate::material::Material;
+use crate::optics::{Interface, InterfaceError, Medium, Mode, Scattering, Side};
+use glam::DVec3;
 use std::io::Write;
 
+/// Solve one interface: every outgoing wave for one incident wave.
 #[derive(clap::Args, Debug)]
-pub struct InterfaceArgs {}
+pub struct InterfaceArgs {
+    /// Medium of the incident wave: a built-in name (e.g. air, n-bk7,
+    /// calcite, quartz, sapphire, diamond), `iso:N` or `uniaxial:NO:NE`.
+    #[arg(long, value_name = "MEDIUM")]
+    pub from: String,
+    /// Medium on the other side of the interface (same forms as --from).
+    #[arg(long, value_name = "MEDIUM")]
+    pub to: String,
+    /// Optic axis of whichever side is uniaxial, `x,y,z`.
+    #[arg(
+        long,
+        value_name = "X,Y,Z",
+        default_value = "0,0,1",
+        allow_hyphen_values = true
+    )]
+    pub axis: String,
+    /// Interface normal, `x,y,z`, pointing into the --from medium.
+    #[arg(
+        long,
+        value_name = "X,Y,Z",
+        default_value = "0,0,1",
+        allow_hyphen_values = true
+    )]
+    pub normal: String,
+    /// Direction of the incident wave vector, `x,y,z`, pointing toward the
+    /// interface.
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub incident: String,
+    /// Mode of the incident wave: s or p (isotropic medium), o or e
+    /// (uniaxial crystal).
+    #[arg(long, value_name = "s|p|o|e")]
+    pub mode: String,
+    /// Vacuum wavelength in nm.
+    #[arg(
+        long,
+        value_name = "NM",
+        default_value_t = 589.3,
+        allow_hyphen_values = true
+    )]
+    pub wavelength: f64,
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
 
-pub fn run(_args: &InterfaceArgs, _out: &mut dyn Write) -> Result<(), CliError> {
-    Err(CliError::Failed("spar interface is not implemented yet".into()))
+/// Parse `x,y,z` into a finite non-zero vector.
+fn parse_vector(text: &str, flag: &str) -> Result<DVec3, CliError> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let bad = || CliError::Input(format!("--{flag} `{text}`: expected three numbers `x,y,z`"));
+    if parts.len() != 3 {
+        return Err(bad());
+    }
+    let mut v = [0.0; 3];
+    for (x, p) in v.iter_mut().zip(&parts) {
+        *x = p.parse::<f64>().map_err(|_| bad())?;
+    }
+    let v = DVec3::from_array(v);
+    if !v.is_finite() {
+        return Err(CliError::Input(format!("--{flag} `{text}` must be finite")));
+    }
+    if v.length_squared() == 0.0 || !v.length().is_finite() || v.length() == 0.0 {
+        return Err(CliError::Input(format!(
+            "--{flag} `{text}` must be a non-zero vector"
+        )));
+    }
+    Ok(v)
+}
+
+fn describe(name: &str, m: &Medium) -> String {
+    match m {
+        Medium::Isotropic { n } => format!("{name} (isotropic, n = {n:.6})"),
+        Medium::Uniaxial { n_o, n_e, axis } => format!(
+            "{name} (uniaxial, n_o = {n_o:.6}, n_e = {n_e:.6}, axis = ({:.4}, {:.4}, {:.4}))",
+            axis.x, axis.y, axis.z
+        ),
+    }
+}
+
+fn check_indices(name: &str, m: &Medium, lambda: f64) -> Result<(), CliError> {
+    let ok = |n: f64| n.is_finite() && n > 0.0;
+    let good = match *m {
+        Medium::Isotropic { n } => ok(n),
+        Medium::Uniaxial { n_o, n_e, .. } => ok(n_o) && ok(n_e),
+    };
+    if good {
+        Ok(())
+    } else {
+        Err(CliError::Input(format!(
+            "{name} has no usable refractive index at {lambda} nm (outside its dispersion model)"
+        )))
+    }
+}
+
+fn input(e: InterfaceError) -> CliError {
+    CliError::Input(e.to_string())
+}
+
+/// Build the interface and solve it; every user error becomes
+/// `CliError::Input`.
+pub fn solve(args: &InterfaceArgs) -> Result<(Interface, Scattering), CliError> {
+    let normal = parse_vector(&args.normal, "normal")?;
+    let incident = parse_vector(&args.incident, "incident")?;
+    let axis = parse_vector(&args.axis, "axis")?;
+    let lambda = args.wavelength;
+    if !(lambda.is_finite() && lambda > 0.0) {
+        return Err(CliError::Input(format!(
+            "--wavelength {lambda} must be a positive number of nanometres"
+        )));
+    }
+    let from = Material::parse(&args.from).map_err(|e| CliError::Input(format!("--from: {e}")))?;
+    let to = Material::parse(&args.to).map_err(|e| CliError::Input(format!("--to: {e}")))?;
+    let m_from = from.medium(lambda, axis);
+    let m_to = to.medium(lambda, axis);
+    check_indices(from.name(), &m_from, lambda)?;
+    check_indices(to.name(), &m_to, lambda)?;
+    let mode = Mode::parse(&args.mode)
+        .ok_or_else(|| CliError::Input(format!("--mode `{}`: expected s, p, o or e", args.mode)))?;
+    if !mode.exists_in(&m_from) {
+        let has = if m_from.is_isotropic() {
+            "it is isotropic: use --mode s or p"
+        } else {
+            "it is a uniaxial crystal: use --mode o or e"
+        };
+        return Err(CliError::Input(format!(
+            "--mode {}: the --from medium {} has no such wave; {has}",
+            mode.name(),
+            from.name()
+        )));
+    }
+    let iface = Interface::new(normal, m_from, m_to).map_err(input)?;
+    if incident.dot(iface.normal()) >= 0.0 {
+        return Err(CliError::Input(format!(
+            "--incident `{}` points away from the interface: --normal points into the \
+             --from medium, so an incident wave needs incident · normal < 0",
+            args.incident
+        )));
+    }
+    let scattering = iface
+        .solve_direction(Side::Plus, mode, incident)
+        .map_err(|e| match e {
+            InterfaceError::NotIncident => CliError::Input(format!(
+                "--incident `{}`: this {} wave's energy flows away from the interface \
+                 (near grazing an extraordinary wave's ray and wave vector can point to \
+                 opposite sides of the interface)",
+                args.incident,
+                mode.name()
+            )),
+            other => input(other),
+        })?;
+    if scattering
+        .outgoing
+        .iter()
+        .any(|o| !o.energy.is_finite() || !o.amplitude.re.is_finite())
+    {
+        return Err(CliError::Failed(
+            "the interface solve produced a non-finite value".into(),
+        ));
+    }
+    Ok((iface, scattering))
+}
+
+pub fn run(args: &InterfaceArgs, out: &mut dyn Write) -> Result<(), CliError> {
+    let (iface, sc) = solve(args)?;
+    let io = |e: std::io::Error| CliError::Failed(format!("cannot write output: {e}"));
+    let side_name = |s: Side| {
+        if s == sc.incident.side {
+            "reflected"
+        } else {
+            "transmitted"
+        }
+    };
+    if args.json {
+        let waves: Vec<serde_json::Value> = sc
+            .outgoing
+            .iter()
+            .map(|o| {
+                let k = o.wave.k.re;
+                let r = o.wave.ray;
+                serde_json::json!({
+                    "side": side_name(o.wave.side),
+                    "mode": o.wave.mode.name(),
+                    "k": [k.x, k.y, k.z],
+                    "ray": [r.x, r.y, r.z],
+                    "evanescent": o.wave.evanescent,
+                    "energy": o.energy,
+                })
+            })
+            .collect();
+        let doc = serde_json::json!({ "waves": waves, "energy_sum": sc.energy_sum() });
+        writeln!(out, "{doc}").map_err(io)?;
+        return Ok(());
+    }
+    let v = |d: DVec3| format!("({:>8.5}, {:>8.5}, {:>8.5})", d.x, d.y, d.z);
+    let i = &sc.incident;
+    writeln!(
+        out,
+        "from {}",
+        describe(&args.from, iface.medium(Side::Plus))
+    )
+    .map_err(io)?;
+    writeln!(
+        out,
+        "to   {}",
+        describe(&args.to, iface.medium(Side::Minus))
+    )
+    .map_err(io)?;
+    writeln!(
+        out,
+        "wavelength {} nm; unit normal {} points into the incident medium",
+        args.wavelength,
+        v(iface.normal())
+    )
+    .map_err(io)?;
+    writeln!(
+        out,
+        "incident {} wave: k {}  ray {}",
+        i.mode.name(),
+        v(i.k.re),
+        v(i.ray)
+    )
+    .map_err(io)?;
+    writeln!(out).map_err(io)?;
+    writeln!(
+        out,
+        "{:<12} {:<4} {:<30} {:<22} {:<30} {:>10}",
+        "side", "mode", "k (real part)", "q = k·N", "ray", "energy"
+    )
+    .map_err(io)?;
+    for o in &sc.outgoing {
+        let q = o.wave.q;
+        let q = if o.wave.evanescent {
+            format!("{:.6}{:+.6}i", q.re, q.im)
+        } else {
+            format!("{:.6}", q.re)
+        };
+        let energy = if o.wave.evanescent {
+            "evanescent".to_string()
+        } else {
+            format!("{:.8}", o.energy)
+        };
+        writeln!(
+            out,
+            "{:<12} {:<4} {:<30} {:<22} {:<30} {:>10}",
+            side_name(o.wave.side),
+            o.wave.mode.name(),
+            v(o.wave.k.re),
+            q,
+            v(o.wave.ray),
+            energy
+        )
+        .map_err(io)?;
+    }
+    writeln!(out).map_err(io)?;
+    writeln!(out, "energy sum {:.12}", sc.energy_sum()).map_err(io)?;
+    Ok(())
 }
