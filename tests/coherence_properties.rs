@@ -46,7 +46,8 @@ fn random_jones(rng: &mut Pcg64, cols: usize) -> Jones {
 }
 
 /// `T J Tᴴ` by plain complex matrix products (independent of
-/// `Coherence::transform`).
+/// `Coherence::transform`); index loops, as the formula is written.
+#[allow(clippy::needless_range_loop)]
 fn naive_transform(t: &Jones, j: &Coherence) -> [[Complex64; 2]; 2] {
     let jm = j.matrix();
     let n = j.modes();
@@ -250,7 +251,7 @@ fn nasty_inputs_never_give_nan_or_infinity() {
         -1e-17,
         1.0,
     ];
-    let mut pick = |rng: &mut Pcg64| {
+    let pick = |rng: &mut Pcg64| {
         if rng.gen_bool(0.5) {
             specials[rng.gen_range(0..specials.len())]
         } else {

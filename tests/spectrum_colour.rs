@@ -238,13 +238,8 @@ fn flat_spectrum_times_d65_is_white_for_every_set() {
         let obs = Observer::new(set).unwrap_or_else(|e| panic!("{set:?}: {e}"));
         for scale in [1.0, 0.25] {
             let rgb = obs.linear_srgb(&d65_times(set, |_| scale));
-            for c in 0..3 {
-                assert_close(
-                    rgb[c],
-                    scale,
-                    1e-12,
-                    &format!("{:?} channel {c}", set.lambdas()),
-                );
+            for (c, &v) in rgb.iter().enumerate() {
+                assert_close(v, scale, 1e-12, &format!("{:?} channel {c}", set.lambdas()));
             }
             let via_factor = obs.linear_srgb_under_d65(&vec![scale; set.len()]);
             assert_close(via_factor[1], scale, 1e-12, "factor path");
@@ -290,7 +285,8 @@ fn xyz_matches_colour_science() {
     // step, whose discontinuity the rectangle rule treats differently).
     let set = WavelengthSet::uniform(401).unwrap();
     let obs = Observer::new(&set).unwrap();
-    let cases: [(&str, fn(f64) -> f64, [f64; 3]); 3] = [
+    type Case = (&'static str, fn(f64) -> f64, [f64; 3]);
+    let cases: [Case; 3] = [
         (
             "gauss_550_40",
             |l| (-((l - 550.0) / 40.0_f64).powi(2)).exp(),

@@ -52,10 +52,8 @@ impl Jones {
     /// the shape are set to zero.
     pub fn from_entries(rows: usize, cols: usize, m: [[Complex64; 2]; 2]) -> Jones {
         let mut j = Jones::zero(rows, cols);
-        for r in 0..rows {
-            for c in 0..cols {
-                j.m[r][c] = m[r][c];
-            }
+        for (out, row) in j.m.iter_mut().zip(m).take(rows) {
+            out[..cols].copy_from_slice(&row[..cols]);
         }
         j
     }

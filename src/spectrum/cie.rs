@@ -23,8 +23,8 @@ fn lerp_table<const N: usize, T: Copy>(
     zero: T,
 ) -> T {
     let pos = (lambda_nm - first) / step;
-    // `!(pos >= 0)` also catches NaN.
-    if !(pos >= 0.0) || pos > (N - 1) as f64 {
+    // The range test is false for NaN too.
+    if !(0.0..=(N - 1) as f64).contains(&pos) {
         return zero;
     }
     let i = (pos as usize).min(N - 2);

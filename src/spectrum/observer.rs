@@ -68,7 +68,8 @@ fn white_normalisation(set: &WavelengthSet) -> Option<(f64, [f64; 3])> {
             xyz_white[c] += p * bar[c];
         }
     }
-    if !(xyz_white[1] > 0.0) {
+    // Also refuses NaN.
+    if xyz_white[1].partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return None;
     }
     let y_scale = 1.0 / xyz_white[1];

@@ -436,14 +436,14 @@ impl RgbToSpectrumTable {
                 let mut column = vec![[0.0; 3]; n];
                 let start = n / 5;
                 let mut c = [0.0; 3];
-                for k in start..n {
+                for (k, node) in column.iter_mut().enumerate().skip(start) {
                     c = fitter.solve(rgb_at(k), c);
-                    column[k] = c;
+                    *node = c;
                 }
                 let mut c = column[start];
-                for k in (0..start).rev() {
+                for (k, node) in column.iter_mut().enumerate().take(start).rev() {
                     c = fitter.solve(rgb_at(k), c);
-                    column[k] = c;
+                    *node = c;
                 }
                 column
             })
