@@ -1,16 +1,16 @@
 //! sRGB (IEC 61966-2-1:1999): the XYZ ↔ linear RGB matrices for D65 white and
 //! the transfer function between linear and encoded values.
 
-/// XYZ (Y = 1 for the white) → linear sRGB, IEC 61966-2-1:1999 eq. (5),
-/// the published four-decimal matrix.
+/// XYZ (Y = 1 for the white) → linear sRGB, IEC 61966-2-1:1999, the
+/// published four-decimal matrix.
 pub const XYZ_TO_LINEAR_SRGB: [[f64; 3]; 3] = [
     [3.2406, -1.5372, -0.4986],
     [-0.9689, 1.8758, 0.0415],
     [0.0557, -0.2040, 1.0570],
 ];
 
-/// Linear sRGB → XYZ, IEC 61966-2-1:1999 (Annex F / Amendment 1), the
-/// published four-decimal matrix. It is the inverse of
+/// Linear sRGB → XYZ, IEC 61966-2-1:1999, the published four-decimal
+/// matrix. It is the inverse of
 /// [`XYZ_TO_LINEAR_SRGB`] to about 1e-4, as published.
 pub const LINEAR_SRGB_TO_XYZ: [[f64; 3]; 3] = [
     [0.4124, 0.3576, 0.1805],
@@ -38,7 +38,7 @@ pub fn linear_srgb_to_xyz(rgb: [f64; 3]) -> [f64; 3] {
     mul3(&LINEAR_SRGB_TO_XYZ, rgb)
 }
 
-/// sRGB encoding (linear → non-linear), IEC 61966-2-1:1999 eq. (7):
+/// sRGB encoding (linear → non-linear), IEC 61966-2-1:1999:
 /// `12.92 L` for `L ≤ 0.0031308`, else `1.055 L^(1/2.4) − 0.055`.
 /// Values above 1 follow the power law; negative values the linear segment.
 pub fn encode(linear: f64) -> f64 {
@@ -49,7 +49,7 @@ pub fn encode(linear: f64) -> f64 {
     }
 }
 
-/// sRGB decoding (non-linear → linear), IEC 61966-2-1:1999 eq. (4):
+/// sRGB decoding (non-linear → linear), IEC 61966-2-1:1999:
 /// `V / 12.92` for `V ≤ 0.04045`, else `((V + 0.055) / 1.055)^2.4`.
 pub fn decode(encoded: f64) -> f64 {
     if encoded <= 0.040_45 {
