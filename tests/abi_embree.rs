@@ -117,7 +117,7 @@ fn bound_structs_match_the_c_header() {
 #[test]
 fn init_intersect_context_matches_the_inline_header_function() {
     let ctx = spar_sys::embree::rtc_init_intersect_context();
-    assert_eq!(ctx.filter, None);
+    assert!(ctx.filter.is_none());
     assert!(ctx.instID.iter().all(|&i| i == u32::MAX));
     assert_eq!(
         ctx.flags,

@@ -49,7 +49,6 @@ pub fn parse_obj(text: &str, file: &str) -> Result<Mesh, ObjError> {
         triangulate: false,
         ignore_points: true,
         ignore_lines: true,
-        ..Default::default()
     };
     let mut reader = std::io::BufReader::new(text.as_bytes());
     let (models, _) = tobj::load_obj_buf(&mut reader, &options, |_| {
