@@ -185,12 +185,12 @@ impl Lu4 {
             }
             let inv = lu[col][col].inv();
             inv_diag[col] = inv;
-            for row in col + 1..4 {
-                let f = lu[row][col] * inv;
-                lu[row][col] = f;
-                for c in col + 1..4 {
-                    let u = lu[col][c];
-                    lu[row][c] -= f * u;
+            let pivot_row = lu[col];
+            for r in lu.iter_mut().skip(col + 1) {
+                let f = r[col] * inv;
+                r[col] = f;
+                for (x, u) in r.iter_mut().zip(pivot_row.iter()).skip(col + 1) {
+                    *x -= f * u;
                 }
             }
         }
@@ -209,14 +209,16 @@ impl Lu4 {
         for row in 1..4 {
             for c in 0..row {
                 let l = self.lu[row][c];
-                y[row] = y[row] - l * y[c];
+                let yc = y[c];
+                y[row] -= l * yc;
             }
         }
         // Back substitution with U.
         for row in (0..4).rev() {
             for c in row + 1..4 {
                 let u = self.lu[row][c];
-                y[row] = y[row] - u * y[c];
+                let yc = y[c];
+                y[row] -= u * yc;
             }
             y[row] *= self.inv_diag[row];
         }

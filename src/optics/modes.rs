@@ -272,19 +272,34 @@ impl TangentFrame {
 }
 
 /// The quadratic `A q² + 2 β q + C = 0` for the normal component `q` of
-/// `k = t + q N` on one sheet of a medium's wave-vector surface
-/// `kᵀ M k = 1` (optics.md §4), with `Δ = β² − A C`.
+/// `k = t + q N` on one sheet of a medium's wave-vector surface, with
+/// `Δ = β² − A C` (optics.md §4, multiplied through so that no reciprocal
+/// index is rounded).
 ///
-/// `M = (1/n_e²)(I − c cᵀ) + (1/n_o²) c cᵀ` for the extraordinary sheet and
-/// `I/n²` for an isotropic or ordinary one; `g = M k` is the ray direction
-/// (the sheet's normal) and `g·N = A q + β = ±√Δ`, so the sign of the root
-/// *is* the direction of the energy flow across the interface.
+/// - Isotropic or ordinary sheet `|k|² = n²`: `A = 1`, `β = 0`,
+///   `C = T² − n²`, `Δ = n² − T²`.
+/// - Extraordinary sheet, optics.md §4's ellipsoid times `n_o² n_e²`:
+///   `n_o² |k|² + δ (k·c)² = n_o² n_e²` with `δ = n_e² − n_o²`, `a = c·N`,
+///   `b = c·t`: `A = n_o² + δ a²`, `β = δ a b`,
+///   `C = n_o² T² + δ b² − n_o² n_e²` and, with the `δ² a² b²` terms
+///   cancelled exactly, `Δ = n_o² [n_o² (n_e² − T²) − δ (b² + a² T² − a² n_e²)]`.
+///
+/// The ray direction is `g = M k` (the sheet's normal, optics.md §4), and
+/// `g·N = (A q + β) · g_scale = ±√Δ · g_scale` with `g_scale = 1/n²` or
+/// `1/(n_o² n_e²)`: the sign of the root *is* the direction of the energy
+/// flow across the interface.
+///
+/// All of `Δ` is evaluated in double-double from the f64 inputs (see
+/// `Dd`), so the o and e sheets describe one crystal and one `t` exactly
+/// (measured against a 60-digit reference: without it, o and e waves that
+/// are both near grazing and near the optic axis lost 1e-9 of energy).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sheet {
     pub a: f64,
     pub beta: f64,
     pub c: f64,
     pub disc: f64,
+    pub g_scale: f64,
 }
 
 impl Sheet {
@@ -294,41 +309,36 @@ impl Sheet {
     pub fn new(medium: &Medium, kind: WaveKind, frame: &TangentFrame) -> Sheet {
         match (*medium, kind) {
             (Medium::Isotropic { n }, _)
-            | (Medium::Uniaxial { n_o: n, .. }, WaveKind::Ordinary) => {
-                let i2 = 1.0 / (n * n);
-                Sheet {
-                    a: i2,
-                    beta: 0.0,
-                    c: frame.tt * i2 - 1.0,
-                    disc: frame.n2_minus_tt(n) * i2 * i2,
-                }
-            }
+            | (Medium::Uniaxial { n_o: n, .. }, WaveKind::Ordinary) => Sheet {
+                a: 1.0,
+                beta: 0.0,
+                c: frame.tt - n * n,
+                disc: frame.n2_minus_tt(n),
+                g_scale: 1.0 / (n * n),
+            },
             (Medium::Uniaxial { n_o, n_e, axis }, _) => {
-                // Extraordinary sheet, optics.md §4: a = c·N, b = c·t,
-                // κ = 1/n_o² − 1/n_e².
-                let ie2 = 1.0 / (n_e * n_e);
-                let kappa = 1.0 / (n_o * n_o) - ie2;
-                // a, b, T² and Δ in double-double: every sheet then sees
-                // exactly the same t (see `Dd`).
+                let no2 = Dd::prod(n_o, n_o);
+                let ne2 = Dd::prod(n_e, n_e);
+                let delta = ne2.sub(no2);
                 let a_dd = Dd::dot(axis, frame.normal);
                 let b_dd = Dd::dot(axis, frame.t);
                 let tt = frame.tt_dd();
                 let (a, b) = (a_dd.value(), b_dd.value());
                 let a2 = a_dd.mul_dd(a_dd);
-                let big_a = a2.mul(kappa).add_f64(ie2);
-                let aa = big_a.value();
-                let beta = kappa * a * b;
-                let c = frame.tt * ie2 + kappa * b * b - 1.0;
-                // β² − A C expanded so that the κ²a²b² terms cancel exactly:
-                // Δ = A − T²/n_e⁴ − κ (b² + a² T²)/n_e².
-                let t1 = tt.mul(ie2).mul(ie2);
-                let t2 = b_dd.mul_dd(b_dd).add(a2.mul_dd(tt)).mul(kappa).mul(ie2);
-                let disc = big_a.sub(t1).sub(t2).value();
+                let b2 = b_dd.mul_dd(b_dd);
+                let big_a = delta.mul_dd(a2).add(no2).value();
+                let d = delta.value();
+                let beta = d * a * b;
+                let c = no2.hi * frame.tt + d * b * b - no2.hi * ne2.hi;
+                let inner = no2
+                    .mul_dd(ne2.sub(tt))
+                    .sub(delta.mul_dd(b2.add(a2.mul_dd(tt)).sub(a2.mul_dd(ne2))));
                 Sheet {
-                    a: aa,
+                    a: big_a,
                     beta,
                     c,
-                    disc,
+                    disc: inner.value() * no2.hi,
+                    g_scale: 1.0 / (no2.hi * ne2.hi),
                 }
             }
         }
@@ -340,8 +350,8 @@ impl Sheet {
         self.disc >= 0.0
     }
 
-    /// The root whose energy flows along `dir · N` (`dir = ±1`), with
-    /// `g·N = A q + β = dir √Δ`. Under `Δ < 0` the wave is evanescent and
+    /// The root whose energy flows along `dir · N` (`dir = ±1`), and its
+    /// `g·N = dir √Δ · g_scale`. Under `Δ < 0` the wave is evanescent and
     /// `dir` must be the side's sign: the root that decays on that side,
     /// `q = (−β + i dir √(−Δ)) / A`, with `g·N` reported as 0.
     #[inline]
@@ -353,7 +363,7 @@ impl Sheet {
             // "stable" small-root form C/(−β − r) would be worse here (C is
             // a cancelling O(1) sum, error ε/|β + r| when β is small).
             let q = (r - self.beta) / self.a;
-            (Complex64::new(q, 0.0), r)
+            (Complex64::new(q, 0.0), r * self.g_scale)
         } else {
             let q = Complex64::new(-self.beta, dir * (-self.disc).sqrt()) / self.a;
             (q, 0.0)
@@ -371,15 +381,15 @@ pub fn n2_minus_tt(n: f64, tt: f64) -> f64 {
 /// A double-double number `hi + lo` for the discriminant Δ.
 ///
 /// Why: near grazing and critical incidence Δ → 0 by cancellation of O(1)
-/// terms, and `q`, the flux and the mode's consistency with the other waves
-/// all hang on √Δ. Rounding `t·t`, `c·t`, `c·N` or Δ in f64 perturbs each
-/// sheet's `q` as if it saw its own slightly different `t` (δq ≈ ε/√Δ); the
-/// waves are then no longer eigenmodes of one common `t`, and the energy
-/// balance, normalized by a small incident flux, drifts by up to ~1e-11
-/// within 1e-6 of grazing (measured). Evaluated exactly from the f64 inputs
-/// (the vectors `t`, `c`, `N` and the constants 1/n_e², κ, used unchanged
-/// by the field formulas too), every sheet sees the same `t` and the same
-/// material.
+/// terms, and `q`, the flux and each mode's consistency with the others all
+/// hang on √Δ. Rounding `t·t`, `c·t`, `c·N`, the squared indices or Δ in
+/// f64 perturbs each sheet's `q` as if it saw its own slightly different `t`
+/// or crystal (δq ≈ ε/√Δ); the waves are then no longer eigenmodes of one
+/// common problem, and the energy balance, normalized by a small incident
+/// flux, drifts (measured: up to 1e-9 where the o and e sheets are both near
+/// grazing and near the optic axis). Evaluated exactly from the f64 inputs
+/// (the vectors `t`, `c`, `N` and the indices), every sheet sees the same
+/// `t` and the same crystal.
 #[derive(Clone, Copy, Debug)]
 struct Dd {
     hi: f64,
@@ -712,7 +722,7 @@ mod tests {
         for dir in [1.0, -1.0] {
             let (q, g_n) = sh.root(dir);
             let q = q.re;
-            assert!((sh.a * q * q + 2.0 * sh.beta * q + sh.c).abs() < 1e-15);
+            assert!((sh.a * q * q + 2.0 * sh.beta * q + sh.c).abs() < 1e-14);
             assert!(g_n * dir > 0.0);
             let k = f.t + n * q;
             let g = ray_vector(&m, WaveKind::Extraordinary, k);

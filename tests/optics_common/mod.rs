@@ -128,25 +128,46 @@ pub fn uniform_configuration(rng: &mut Pcg64) -> (Interface, Side, Mode, DVec3) 
     (iface, side, mode, k)
 }
 
-/// A random configuration (interface, incident side and mode, tangential
-/// wave vector). 70% of cases take a random incident wave; 30% put `t`
-/// within a relative distance 10^-U(1,12) (either way) of the point where
-/// one of the four sheets turns evanescent (grazing or critical
-/// incidence), where the solver's numerics are most stressed.
-pub fn random_configuration(rng: &mut Pcg64) -> (Interface, Side, Mode, DVec3) {
+/// A random configuration placed where the numerics are most stressed:
+/// half of the cases put `t` within a relative distance 10^-U(1,12)
+/// (either way) of the point where one of the four sheets turns evanescent
+/// (grazing or critical incidence, any side, any sheet); the other half
+/// send an ordinary wave of a crystal whose optic axis lies within ~6° of
+/// the interface plane along (±0.6°) the axis' projection, within
+/// 10^-U(3,12) of grazing, so that o and e are near-degenerate and near
+/// grazing at once.
+pub fn stress_configuration(rng: &mut Pcg64) -> (Interface, Side, Mode, DVec3) {
     loop {
+        if rng.gen_bool(0.5) {
+            let axis = unit(rng);
+            let n = unit(rng);
+            let n = n - axis * n.dot(axis) * rng.gen_range(0.9..1.0);
+            if n.length() < 1e-3 {
+                continue;
+            }
+            let n = n.normalize();
+            let n_o = rng.gen_range(1.3..2.5);
+            let crystal = Medium::Uniaxial {
+                n_o,
+                n_e: rng.gen_range(1.3..2.5),
+                axis,
+            };
+            let iface = Interface::new(n, crystal, medium(rng)).unwrap();
+            let u = (axis - n * axis.dot(n)).normalize();
+            let u = (u + n.cross(u) * rng.gen_range(-0.01..0.01)).normalize();
+            let d = 10f64.powf(-rng.gen_range(3.0..12.0));
+            let t = u * (n_o * (1.0 - d));
+            if iface
+                .incident_wave(Side::Plus, Mode::O, t)
+                .map(|w| w.flux != 0.0)
+                .unwrap_or(false)
+            {
+                return (iface, Side::Plus, Mode::O, t);
+            }
+            continue;
+        }
         let n = unit(rng);
         let iface = Interface::new(n, medium(rng), medium(rng)).unwrap();
-        if rng.gen_range(0..10) < 7 {
-            let side = if rng.gen_bool(0.5) {
-                Side::Plus
-            } else {
-                Side::Minus
-            };
-            let mode = random_mode(rng, iface.medium(side));
-            let k = incident_k(rng, &iface, side, mode);
-            return (iface, side, mode, k);
-        }
         let nn = iface.normal();
         let u = {
             let v = unit(rng);
@@ -156,23 +177,18 @@ pub fn random_configuration(rng: &mut Pcg64) -> (Interface, Side, Mode, DVec3) {
             }
             t.normalize()
         };
-        let side = if rng.gen_bool(0.5) {
-            Side::Plus
-        } else {
-            Side::Minus
-        };
-        let crits = critical_tt(iface.medium(side), nn, u)
+        let crits: Vec<f64> = critical_tt(iface.medium(Side::Plus), nn, u)
             .into_iter()
-            .chain(critical_tt(iface.medium(side.opposite()), nn, u))
-            .collect::<Vec<_>>();
+            .chain(critical_tt(iface.medium(Side::Minus), nn, u))
+            .collect();
         let tt = crits[rng.gen_range(0..crits.len())];
-        if !(tt > 0.0) {
+        if tt.is_nan() || tt <= 0.0 {
             continue;
         }
         let delta =
             10f64.powf(-rng.gen_range(1.0..12.0)) * if rng.gen_bool(0.5) { 1.0 } else { -1.0 };
         let t = u * (tt.sqrt() * (1.0 + delta));
-        let modes: Vec<Mode> = [Side::Plus, Side::Minus]
+        let candidates: Vec<(Side, Mode)> = [Side::Plus, Side::Minus]
             .iter()
             .flat_map(|&s| {
                 Mode::pair_of(iface.medium(s))
@@ -185,27 +201,43 @@ pub fn random_configuration(rng: &mut Pcg64) -> (Interface, Side, Mode, DVec3) {
                     .map(|w| w.flux != 0.0)
                     .unwrap_or(false)
             })
-            .map(|(_, m)| m)
             .collect();
-        let sides: Vec<Side> = [Side::Plus, Side::Minus]
-            .iter()
-            .flat_map(|&s| {
-                Mode::pair_of(iface.medium(s))
-                    .into_iter()
-                    .map(move |m| (s, m))
-            })
-            .filter(|&(s, m)| {
-                iface
-                    .incident_wave(s, m, t)
-                    .map(|w| w.flux != 0.0)
-                    .unwrap_or(false)
-            })
-            .map(|(s, _)| s)
-            .collect();
-        if modes.is_empty() {
+        if candidates.is_empty() {
             continue;
         }
-        let i = rng.gen_range(0..modes.len());
-        return (iface, sides[i], modes[i], t);
+        let (side, mode) = candidates[rng.gen_range(0..candidates.len())];
+        return (iface, side, mode, t);
     }
+}
+
+/// Conditioning of the modal energy balance of one solve (see
+/// `optics_properties.rs`, "near-critical stress"): ε n_max² / (|F_i| g),
+/// where g is the smallest gap |q_j − q_k*| between the normal components
+/// of two waves of different sheets (o vs e) on the same side, among the
+/// incident wave and the outgoing ones (evanescent included). No such pair:
+/// ε n_max² / |F_i|.
+pub fn energy_conditioning(iface: &Interface, sc: &spar::optics::Scattering) -> f64 {
+    let eps = f64::EPSILON;
+    let nmax = [Side::Plus, Side::Minus]
+        .iter()
+        .map(|&s| match *iface.medium(s) {
+            Medium::Isotropic { n } => n,
+            Medium::Uniaxial { n_o, n_e, .. } => n_o.max(n_e),
+        })
+        .fold(0.0, f64::max);
+    let mut waves: Vec<&spar::optics::Eigenwave> = vec![&sc.incident];
+    waves.extend(sc.outgoing.iter().map(|o| &o.wave));
+    let mut gap = f64::INFINITY;
+    for (i, a) in waves.iter().enumerate() {
+        for b in &waves[i + 1..] {
+            let sheets_differ = a.mode.kind() != b.mode.kind();
+            if a.side == b.side && sheets_differ {
+                // Cross fluxes of exact modes vanish because
+                // (q_a − q_b*) C_ab = 0; with rounded fields C_ab ≈ residual
+                // / |q_a − q_b*|.
+                gap = gap.min((a.q - b.q.conj()).norm());
+            }
+        }
+    }
+    eps * nmax * nmax / (sc.incident.flux.abs() * gap.min(1.0))
 }
