@@ -43,7 +43,9 @@
 //!   the extraordinary wave vector, `E = ε⁻¹ D` normalized to unit length
 //!   (not transverse to `k`; it is transverse to the ray `S`).
 //! - `H = k × E` for every mode. Evanescent waves have complex `k`, `E` and
-//!   `H`; their `E` is normalized to unit Hermitian length.
+//!   `H`; the o and e fields are normalized to unit Hermitian length, the
+//!   isotropic p field stays `k × s / n` (its bilinear square is 1, its
+//!   Hermitian length is not), the vector the textbook `tp` refers to.
 
 use super::linalg::CVec3;
 use super::medium::Medium;
