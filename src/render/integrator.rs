@@ -16,6 +16,17 @@
 //! blocks carry energy-normalized amplitudes only.
 //!
 //! Air here has n = 1 exactly (the ambient medium of every scene).
+//!
+//! Model limits, stated so nobody mistakes them for bugs:
+//! - The o and e waves of a crystal are traced as separate, mutually
+//!   incoherent rays (the seed paper's model, right when their paths
+//!   differ by more than the light's coherence length). Where they do not
+//!   separate — along the optic axis — physics would recombine them
+//!   coherently and polarized light would pass unchanged; here it is
+//!   depolarized by an amount that depends on how the degenerate o/e split
+//!   is oriented. Unpolarized light is unaffected (tests/render_hard_cases).
+//! - Objects must not overlap or touch: a ray inside one object that meets
+//!   another is counted as lost.
 
 use crate::accel::{Intersector, Ray};
 use crate::optics::backward::Feeders;
