@@ -8,6 +8,7 @@ use crate::optics::Coherence;
 use crate::spectrum::{cie, SigmoidSpectrum};
 use glam::DVec3;
 use num_complex::Complex64;
+use std::collections::HashMap;
 use std::path::Path;
 use toml::Spanned;
 
@@ -37,6 +38,10 @@ pub enum Polarization {
     },
 }
 
+/// Most distinct colours a texture may have for its spectra to be fitted
+/// one by one instead of looked up in the table.
+pub const DIRECT_FIT_LIMIT: usize = 1024;
+
 /// An RGB texture as per-texel smooth reflectance spectra (Jakob & Hanika
 /// 2019), row 0 along the light's first edge.
 #[derive(Clone, Debug)]
@@ -48,15 +53,42 @@ pub struct Texture {
 
 impl Texture {
     /// The texture's spectra for linear RGB texels (row-major, row 0 first).
+    ///
+    /// Textures with few distinct colours (up to [`DIRECT_FIT_LIMIT`]) fit
+    /// each colour directly, which is exact and costs well under a
+    /// millisecond per colour; larger ones look colours up in the global
+    /// coefficient table (built once per process, about a second).
     pub fn from_linear_rgb(width: usize, height: usize, rgb: &[[f64; 3]]) -> Texture {
         assert_eq!(rgb.len(), width * height);
+        let mut distinct: HashMap<[u64; 3], SigmoidSpectrum> = HashMap::new();
+        for c in rgb {
+            distinct
+                .entry(c.map(f64::to_bits))
+                .or_insert(SigmoidSpectrum::constant(0.0));
+            if distinct.len() > DIRECT_FIT_LIMIT {
+                break;
+            }
+        }
+        let direct = distinct.len() <= DIRECT_FIT_LIMIT;
+        if direct {
+            for (bits, spectrum) in distinct.iter_mut() {
+                *spectrum = SigmoidSpectrum::fit(bits.map(f64::from_bits));
+            }
+        }
+        let texels = rgb
+            .iter()
+            .map(|c| {
+                if direct {
+                    distinct[&c.map(f64::to_bits)]
+                } else {
+                    SigmoidSpectrum::from_linear_srgb(*c)
+                }
+            })
+            .collect();
         Texture {
             width,
             height,
-            texels: rgb
-                .iter()
-                .map(|&c| SigmoidSpectrum::from_linear_srgb(c))
-                .collect(),
+            texels,
         }
     }
 
