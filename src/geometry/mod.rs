@@ -1,5 +1,7 @@
 //! Geometry: polygon meshes with flat facets, and their loading.
 
+pub mod asc;
+pub mod convex;
 pub mod mesh;
 pub mod obj;
 
