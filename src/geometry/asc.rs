@@ -32,8 +32,7 @@
 //! order mark), Windows-1252 otherwise (GemCAD is a Windows program); line
 //! ends may be CR LF, LF or CR.
 
-use super::convex::{intersect, ConvexError, HalfSpace, IntersectOptions, Polytope};
-use super::mesh::Mesh;
+use super::convex::{intersect, ConvexError, HalfSpace, IntersectOptions, Stone};
 use glam::DVec3;
 use std::fmt;
 use std::path::Path;
@@ -113,16 +112,6 @@ pub enum AscError {
     Geometry { file: String, message: String },
 }
 
-/// A design's stone: the mesh (facets named `name@index`) and notes on
-/// facets that did not survive or that the reader tolerated.
-#[derive(Clone, Debug)]
-pub struct AscStone {
-    pub mesh: Mesh,
-    pub notes: Vec<String>,
-    /// The half-space intersection, for callers that want the fates.
-    pub polytope: Polytope,
-}
-
 /// Reads and parses an `.asc` file.
 pub fn load_asc(path: &Path) -> Result<AscDesign, AscError> {
     let file = path.display().to_string();
@@ -134,7 +123,7 @@ pub fn load_asc(path: &Path) -> Result<AscDesign, AscError> {
 }
 
 /// Reads an `.asc` file and builds its stone.
-pub fn load_asc_stone(path: &Path) -> Result<AscStone, AscError> {
+pub fn load_asc_stone(path: &Path) -> Result<Stone, AscError> {
     load_asc(path)?.stone()
 }
 
@@ -487,12 +476,12 @@ impl AscDesign {
 
     /// The stone: the intersection of every facet's half-space, vertices
     /// closer than [`ASC_WELD`] welded.
-    pub fn stone(&self) -> Result<AscStone, AscError> {
+    pub fn stone(&self) -> Result<Stone, AscError> {
         self.stone_with_weld(ASC_WELD)
     }
 
     /// [`AscDesign::stone`] with another weld tolerance.
-    pub fn stone_with_weld(&self, weld: f64) -> Result<AscStone, AscError> {
+    pub fn stone_with_weld(&self, weld: f64) -> Result<Stone, AscError> {
         let facets = self.facet_planes();
         let planes: Vec<HalfSpace> = facets.iter().map(|f| f.0).collect();
         let describe = |i: usize| format!("facet {} (line {})", facets[i].1, facets[i].2);
@@ -524,7 +513,7 @@ impl AscDesign {
             .map(|(line, m)| format!("{}:{line}: {m}", self.file))
             .collect();
         notes.extend(polytope.fate_notes(describe));
-        Ok(AscStone {
+        Ok(Stone {
             mesh,
             notes,
             polytope,

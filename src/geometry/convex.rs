@@ -99,6 +99,16 @@ pub struct Polytope {
     pub weld: f64,
 }
 
+/// A stone built from planes: its mesh (facets named), notes on planes
+/// that have no facet (and anything else the builder tolerated), and the
+/// intersection itself.
+#[derive(Clone, Debug)]
+pub struct Stone {
+    pub mesh: Mesh,
+    pub notes: Vec<String>,
+    pub polytope: Polytope,
+}
+
 /// Why half-spaces did not give a polyhedron.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ConvexError {

@@ -2,6 +2,7 @@
 
 pub mod asc;
 pub mod convex;
+pub mod cuts;
 pub mod mesh;
 pub mod obj;
 
