@@ -54,6 +54,19 @@
 //! for exactly that). Energy-normalized amplitudes make `Σ |ã|²` over all
 //! outgoing waves of each incident mode 1; the `n²` radiance factor is left
 //! out (see [`super::interface`]).
+//!
+//! # Use in a backward tracer
+//!
+//! ```text
+//! backward ray arrives at the surface with direction d, on side σ, as wave K
+//! f = interface.feeders(σ, K, −d)
+//! J_w = Σ over x in f.as_slice():
+//!         x.block · J_x · x.blockᴴ
+//!       where J_x = trace(from the hit point, direction −x.wave.ray,
+//!                         medium of x.wave.side, wave x.wave.kind),
+//!             expressed in x.wave.basis
+//! J_w is in f.target.basis.
+//! ```
 
 use super::fresnel::{fresnel_from_normals, normal_component};
 use super::interface::{energy_factor, BoundarySystem, Interface, InterfaceError};
@@ -183,7 +196,9 @@ impl Interface {
 
     /// The backward query for the outgoing wave of `kind` on `side` with
     /// tangential wave vector `t` (any normal component is ignored). Returns
-    /// no feeders when that wave grazes the interface (no normal flux).
+    /// no feeders when that wave carries no normal flux: it grazes the
+    /// interface, or `t` lies beyond its sheet (evanescent; from a ray
+    /// direction this happens only by rounding at grazing).
     pub fn feeders_tangential(
         &self,
         side: Side,
@@ -223,7 +238,8 @@ impl Interface {
         side: Side,
         kind: WaveKind,
     ) -> Result<Feeders, InterfaceError> {
-        let out = self.outgoing_waves(frame);
+        let sheets = self.sheets(frame);
+        let out = self.outgoing_on(frame, &sheets);
         // Target rows: indices into `out` of w's modes.
         let base = 2 * side.index();
         let (rows, first) = match kind {
@@ -231,9 +247,6 @@ impl Interface {
             WaveKind::Extraordinary => (1, base + 1),
         };
         let w0 = &out[first];
-        if w0.evanescent {
-            return Err(InterfaceError::NoSuchWave);
-        }
         let target = basis_of(
             w0,
             if rows == 2 {
@@ -244,7 +257,7 @@ impl Interface {
             kind,
         );
         let mut result = Feeders::empty(frame, target);
-        if w0.flux == 0.0 {
+        if w0.evanescent || w0.flux == 0.0 {
             return Ok(result);
         }
         let system = BoundarySystem::new(frame, &out).ok_or(InterfaceError::Singular)?;
@@ -258,7 +271,22 @@ impl Interface {
                 };
                 let mut waves = [None; 2];
                 for (i, &m) in modes.iter().enumerate() {
-                    waves[i] = Eigenwave::new(medium, frame, cand_side, Travel::Incoming, m);
+                    // The incoming wave shares its sheet with the outgoing
+                    // one of the same mode; it exists only if it propagates.
+                    let idx = if ck == WaveKind::Extraordinary { 1 } else { i };
+                    let sheet = &sheets[cand_side.index()][idx];
+                    if sheet.propagates() {
+                        let dir = -cand_side.sign();
+                        waves[i] = Some(Eigenwave::on_sheet(
+                            medium,
+                            frame,
+                            sheet,
+                            cand_side,
+                            Travel::Incoming,
+                            m,
+                            dir,
+                        ));
+                    }
                 }
                 let c0 = match waves[0] {
                     Some(w) if w.flux != 0.0 => w,

@@ -225,11 +225,38 @@ impl Interface {
     /// `(o, e)`.
     #[inline]
     pub fn outgoing_waves(&self, frame: &TangentFrame) -> [Eigenwave; 4] {
+        self.outgoing_on(frame, &self.sheets(frame))
+    }
+
+    /// The sheets `[side][mode]` at this frame (an isotropic medium's s and
+    /// p share one, computed once).
+    #[inline]
+    pub(crate) fn sheets(&self, frame: &TangentFrame) -> [[Sheet; 2]; 2] {
+        [Side::Plus, Side::Minus].map(|side| {
+            let m = self.medium(side);
+            let [m0, m1] = Mode::pair_of(m);
+            let s0 = Sheet::new(m, m0.kind(), frame);
+            let s1 = if m1.kind() == m0.kind() {
+                s0
+            } else {
+                Sheet::new(m, m1.kind(), frame)
+            };
+            [s0, s1]
+        })
+    }
+
+    /// The outgoing waves on precomputed sheets.
+    #[inline]
+    pub(crate) fn outgoing_on(
+        &self,
+        frame: &TangentFrame,
+        sheets: &[[Sheet; 2]; 2],
+    ) -> [Eigenwave; 4] {
         let wave = |side: Side, i: usize| {
             let m = self.medium(side);
             let mode = Mode::pair_of(m)[i];
-            let sheet = Sheet::new(m, mode.kind(), frame);
-            Eigenwave::on_sheet(m, frame, &sheet, side, Travel::Outgoing, mode, side.sign())
+            let sheet = &sheets[side.index()][i];
+            Eigenwave::on_sheet(m, frame, sheet, side, Travel::Outgoing, mode, side.sign())
         };
         [
             wave(Side::Plus, 0),
@@ -451,7 +478,13 @@ impl Scattering {
         let f_in = incident.flux;
         let make = |j: usize| {
             let w = out[j];
-            let normalized = a[j] * energy_factor(w.flux, f_in);
+            // Evanescent waves carry no flux: ã = 0 (also when F_in = 0).
+            let factor = if w.evanescent {
+                0.0
+            } else {
+                energy_factor(w.flux, f_in)
+            };
+            let normalized = a[j] * factor;
             Outgoing {
                 wave: w,
                 amplitude: a[j],

@@ -403,10 +403,25 @@ impl Dd {
     #[inline]
     fn prod(a: f64, b: f64) -> Dd {
         let hi = a * b;
-        Dd {
-            hi,
-            lo: a.mul_add(b, -hi),
-        }
+        // With hardware FMA the error term is one fused operation; without
+        // it `mul_add` would be a libm call, so use Dekker's exact split
+        // product instead (valid for |a|, |b| < 2^996: indices and unit
+        // vectors here).
+        #[cfg(target_feature = "fma")]
+        let lo = a.mul_add(b, -hi);
+        #[cfg(not(target_feature = "fma"))]
+        let lo = {
+            const SPLIT: f64 = 134_217_729.0; // 2^27 + 1
+            let split = |x: f64| {
+                let c = SPLIT * x;
+                let h = c - (c - x);
+                (h, x - h)
+            };
+            let (ah, al) = split(a);
+            let (bh, bl) = split(b);
+            ((ah * bh - hi) + ah * bl + al * bh) + al * bl
+        };
+        Dd { hi, lo }
     }
 
     /// Exact sum of two f64 (Knuth's TwoSum).
