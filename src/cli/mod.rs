@@ -5,6 +5,7 @@
 use clap::{Parser, Subcommand};
 use std::fmt;
 
+pub mod contact_sheet;
 pub mod interface;
 pub mod render;
 
@@ -20,6 +21,8 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene (default: the embedded calcite gem) to images.
     Render(render::RenderArgs),
+    /// Render several scenes in several modes into one labelled sheet.
+    ContactSheet(contact_sheet::ContactSheetArgs),
     /// Solve one interface: every outgoing wave for one incident wave.
     Interface(interface::InterfaceArgs),
 }
@@ -66,6 +69,7 @@ pub fn main() -> i32 {
     };
     let result = match cli.command {
         Command::Render(args) => render::run(&args),
+        Command::ContactSheet(args) => contact_sheet::run(&args),
         Command::Interface(args) => interface::run(&args, &mut std::io::stdout().lock()),
     };
     match result {

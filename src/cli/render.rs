@@ -29,6 +29,19 @@ pub struct RenderArgs {
     /// azimuth), nm.
     #[arg(long, default_value_t = 580.0)]
     pub wavelength: f64,
+    #[command(flatten)]
+    pub overrides: SceneOverrides,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// No progress bar or summary.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// Settings that override a scene file's.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct SceneOverrides {
     /// Wavelengths of the color mode: a count over 380–780 nm, one
     /// wavelength (580nm) or a list (450,550,650). Overrides the scene.
     #[arg(long)]
@@ -50,12 +63,42 @@ pub struct RenderArgs {
     /// Random seed (overrides the scene).
     #[arg(long)]
     pub seed: Option<u64>,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    pub threads: Option<usize>,
-    /// No progress bar or summary.
-    #[arg(long, short)]
-    pub quiet: bool,
+}
+
+impl SceneOverrides {
+    /// Applies the overrides to a scene, checked like the scene's own values.
+    pub fn apply(&self, scene: &mut Scene) -> Result<(), CliError> {
+        let input = CliError::Input;
+        if let Some(spec) = &self.wavelengths {
+            scene.settings.wavelengths =
+                WavelengthSet::parse(spec).map_err(|e| input(format!("--wavelengths: {e}")))?;
+        }
+        if let Some(s) = self.samples {
+            if s == 0 {
+                return Err(input("--samples must be at least 1".into()));
+            }
+            scene.samples = s;
+        }
+        if let Some((w, h)) = self.resolution {
+            scene.camera = scene.camera.clone().with_resolution(w, h);
+        }
+        if let Some(d) = self.max_depth {
+            if d > 1000 {
+                return Err(input("--max-depth must be at most 1000".into()));
+            }
+            scene.settings.max_depth = d;
+        }
+        if let Some(p) = self.prune {
+            if !(p.is_finite() && p >= 0.0) {
+                return Err(input("--prune must be a number ≥ 0".into()));
+            }
+            scene.settings.prune = p;
+        }
+        if let Some(s) = self.seed {
+            scene.settings.seed = s;
+        }
+        Ok(())
+    }
 }
 
 fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
@@ -101,6 +144,67 @@ fn fnv1a(text: &str) -> u64 {
     })
 }
 
+/// A finished render and what it cost.
+pub struct Rendered {
+    pub film: crate::render::film::Film,
+    pub stats: crate::render::integrator::Stats,
+    pub options: RenderOptions,
+    pub accel_time: std::time::Duration,
+    pub render_time: std::time::Duration,
+}
+
+/// Renders what `modes` need: the scene's colour wavelengths for the
+/// spectral modes, `mono_nm` for the others; `threads` 0 means all cores.
+pub fn render_film(
+    scene: &Scene,
+    modes: &[OutputMode],
+    mono_nm: f64,
+    threads: usize,
+    progress: bool,
+) -> Result<Rendered, CliError> {
+    let mut lambdas: Vec<f64> = Vec::new();
+    if modes.iter().any(|m| m.is_spectral()) {
+        lambdas.extend_from_slice(scene.settings.wavelengths.lambdas());
+    }
+    if modes.iter().any(|m| !m.is_spectral())
+        && !lambdas.iter().any(|&l| (l - mono_nm).abs() < 1e-9)
+    {
+        lambdas.push(mono_nm);
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| CliError::Failed(format!("cannot start worker threads: {e}")))?;
+    let t0 = Instant::now();
+    let accel = build_accel(scene, pool.current_num_threads())?;
+    let accel_time = t0.elapsed();
+    let options = RenderOptions {
+        lambdas,
+        tree: TreeSettings {
+            max_depth: scene.settings.max_depth,
+            prune: scene.settings.prune,
+        },
+        samples: scene.samples,
+        seed: scene.settings.seed,
+        progress,
+    };
+    let t1 = Instant::now();
+    let (film, stats) = pool.install(|| render(scene, accel.as_ref(), &options));
+    let render_time = t1.elapsed();
+    if film.data.iter().flatten().any(|v| !v.is_finite()) {
+        return Err(CliError::Failed(
+            "internal error: the render produced non-finite values".into(),
+        ));
+    }
+    Ok(Rendered {
+        film,
+        stats,
+        options,
+        accel_time,
+        render_time,
+    })
+}
+
 /// Builds the Embree accelerator for a scene's objects.
 #[cfg(feature = "native")]
 pub fn build_accel(scene: &Scene, threads: usize) -> Result<Box<dyn Intersector>, CliError> {
@@ -141,35 +245,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         None => Scene::parse(builtin::DEFAULT_SCENE, "(default scene)", Path::new("."))
             .map_err(|e| CliError::Failed(e.to_string()))?,
     };
-    // Command-line overrides, checked like the scene's own values.
-    if let Some(spec) = &args.wavelengths {
-        scene.settings.wavelengths =
-            WavelengthSet::parse(spec).map_err(|e| input(format!("--wavelengths: {e}")))?;
-    }
-    if let Some(s) = args.samples {
-        if s == 0 {
-            return Err(input("--samples must be at least 1".into()));
-        }
-        scene.samples = s;
-    }
-    if let Some((w, h)) = args.resolution {
-        scene.camera = scene.camera.with_resolution(w, h);
-    }
-    if let Some(d) = args.max_depth {
-        if d > 1000 {
-            return Err(input("--max-depth must be at most 1000".into()));
-        }
-        scene.settings.max_depth = d;
-    }
-    if let Some(p) = args.prune {
-        if !(p.is_finite() && p >= 0.0) {
-            return Err(input("--prune must be a number ≥ 0".into()));
-        }
-        scene.settings.prune = p;
-    }
-    if let Some(s) = args.seed {
-        scene.settings.seed = s;
-    }
+    args.overrides.apply(&mut scene)?;
     if !(args.wavelength.is_finite() && (360.0..=830.0).contains(&args.wavelength)) {
         return Err(input(format!(
             "--wavelength {} is outside 360–830 nm",
@@ -197,44 +273,10 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         }
     }
 
-    // The wavelengths to trace: the colour set for spectral modes, the
-    // single wavelength for the others.
-    let mut lambdas: Vec<f64> = Vec::new();
-    if modes.iter().any(|m| m.is_spectral()) {
-        lambdas.extend_from_slice(scene.settings.wavelengths.lambdas());
-    }
-    if modes.iter().any(|m| !m.is_spectral())
-        && !lambdas.iter().any(|&l| (l - args.wavelength).abs() < 1e-9)
-    {
-        lambdas.push(args.wavelength);
-    }
-
     let threads = args.threads.unwrap_or(0);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| CliError::Failed(format!("cannot start worker threads: {e}")))?;
-    let t0 = Instant::now();
-    let accel = build_accel(&scene, pool.current_num_threads())?;
-    let t_accel = t0.elapsed();
-    let opts = RenderOptions {
-        lambdas,
-        tree: TreeSettings {
-            max_depth: scene.settings.max_depth,
-            prune: scene.settings.prune,
-        },
-        samples: scene.samples,
-        seed: scene.settings.seed,
-        progress: !args.quiet,
-    };
-    let t1 = Instant::now();
-    let (film, stats) = pool.install(|| render(&scene, accel.as_ref(), &opts));
-    let t_render = t1.elapsed();
-    if film.data.iter().flatten().any(|v| !v.is_finite()) {
-        return Err(CliError::Failed(
-            "internal error: the render produced non-finite values".into(),
-        ));
-    }
+    let done = render_film(&scene, &modes, args.wavelength, threads, !args.quiet)?;
+    let (film, stats, opts) = (&done.film, done.stats, &done.options);
+    let (t_accel, t_render) = (done.accel_time, done.render_time);
 
     let settings = format!(
         "resolution={}x{} samples={} max_depth={} prune={} seed={} wavelengths={:?} mono_nm={}",
@@ -249,7 +291,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     );
     for &m in &modes {
         let path = output_path(&args.output, m, modes.len() > 1);
-        let image = develop(&film, m, &scene.settings.wavelengths, args.wavelength)
+        let image = develop(film, m, &scene.settings.wavelengths, args.wavelength)
             .map_err(CliError::Failed)?
             .with_metadata("spar:version", crate::VERSION)
             .with_metadata("spar:mode", m.name())

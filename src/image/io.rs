@@ -239,3 +239,39 @@ mod tests {
         assert!(TempFile::beside(Path::new("/")).is_err());
     }
 }
+
+/// Draws `text` into `image` with its baseline starting at pixel (x, y),
+/// `size` pixels high, in the colour `colour` (one value per channel), using
+/// `font` (a font name such as "DejaVuSans", found through the system's font
+/// directories, or the path of a font file). Text outside the image is
+/// clipped.
+pub fn draw_text(
+    image: &mut Image,
+    x: i32,
+    y: i32,
+    text: &str,
+    size: u32,
+    font: &str,
+    colour: &[f32],
+) -> Result<(), ImageError> {
+    if colour.len() != image.channels.len() {
+        return Err(ImageError::Invalid(format!(
+            "{} colour values for {} channels",
+            colour.len(),
+            image.channels.len()
+        )));
+    }
+    #[cfg(feature = "native")]
+    {
+        let (w, h) = (image.width, image.height);
+        crate::native::oiio::render_text(&mut image.data, w, h, x, y, text, font, size, colour)
+            .map_err(|e| ImageError::Invalid(e.0))
+    }
+    #[cfg(not(feature = "native"))]
+    {
+        let _ = (x, y, text, size, font);
+        Err(ImageError::Invalid(
+            "drawing text needs the image backend (this build has none)".into(),
+        ))
+    }
+}

@@ -48,7 +48,7 @@
 
 mod io;
 
-pub use io::{read, write};
+pub use io::{draw_text, read, write};
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -161,6 +161,73 @@ pub fn write(request: &WriteRequest<'_>) -> Result<(), OiioError> {
     }
 }
 
+/// Draws `text` into `pixels` (`width × height × colour.len()` floats,
+/// interleaved) with its baseline starting at (x, y), `size` pixels high,
+/// in `font` (a font name found through the system's font directories, or a
+/// font file's path).
+#[allow(clippy::too_many_arguments)]
+pub fn render_text(
+    pixels: &mut [f32],
+    width: usize,
+    height: usize,
+    x: i32,
+    y: i32,
+    text: &str,
+    font: &str,
+    size: u32,
+    colour: &[f32],
+) -> Result<(), OiioError> {
+    let nchannels = colour.len();
+    if nchannels == 0
+        || width == 0
+        || height == 0
+        || width
+            .checked_mul(height)
+            .and_then(|n| n.checked_mul(nchannels))
+            != Some(pixels.len())
+    {
+        return Err(OiioError(format!(
+            "render_text: {} values for {width}x{height} pixels of {nchannels} channel(s)",
+            pixels.len()
+        )));
+    }
+    let dims = (
+        i32::try_from(width),
+        i32::try_from(height),
+        i32::try_from(nchannels),
+        i32::try_from(size),
+    );
+    let (Ok(w), Ok(h), Ok(c), Ok(size)) = dims else {
+        return Err(OiioError("render_text: image or text too large".into()));
+    };
+    let text =
+        CString::new(text).map_err(|_| OiioError("render_text: text contains NUL".into()))?;
+    let font =
+        CString::new(font).map_err(|_| OiioError("render_text: font name contains NUL".into()))?;
+    // SAFETY: `pixels` holds exactly w·h·c floats (checked above) and is
+    // borrowed mutably for the call; `colour` holds c floats; both strings
+    // are NUL-terminated and live across the call; the shim writes only
+    // inside the buffer it was given and catches every C++ exception.
+    let message = unsafe {
+        sys::spar_oiio_render_text(
+            pixels.as_mut_ptr(),
+            w,
+            h,
+            c,
+            x,
+            y,
+            text.as_ptr(),
+            font.as_ptr(),
+            size,
+            colour.as_ptr(),
+        )
+    };
+    match take_message(message) {
+        None => Ok(()),
+        Some(m) => Err(OiioError(m)),
+    }
+}
+
 /// Reads the first subimage of `path` as linear floats.
 pub fn read(path: &Path) -> Result<ReadImage, OiioError> {
     let c_path = path_to_cstring(path)?;

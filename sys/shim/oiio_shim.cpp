@@ -336,6 +336,31 @@ void spar_oiio_image_view(const SparOiioImage* image, SparOiioImageView* view)
     view->metadata_len       = image->metadata_view.size();
 }
 
+char* spar_oiio_render_text(float* pixels, int32_t width, int32_t height,
+                            int32_t nchannels, int32_t x, int32_t y,
+                            const char* text, const char* font, int32_t size,
+                            const float* colour)
+{
+    try {
+        if (!pixels || !text || !font || !colour || width <= 0 || height <= 0
+            || nchannels <= 0 || size <= 0)
+            return owned_message("render_text: invalid arguments");
+        // Wrap the caller's buffer: ImageBuf writes straight into it.
+        ImageSpec spec(width, height, nchannels, TypeDesc::FLOAT);
+        ImageBuf buf(spec, pixels);
+        std::vector<float> c(colour, colour + nchannels);
+        if (!ImageBufAlgo::render_text(buf, x, y, text, size, font, c)) {
+            std::string detail = buf.geterror();
+            return owned_message(with_detail("cannot draw text", detail));
+        }
+        return nullptr;
+    } catch (const std::exception& e) {
+        return owned_message(std::string("OpenImageIO threw: ") + e.what());
+    } catch (...) {
+        return owned_message("OpenImageIO threw an unknown exception");
+    }
+}
+
 void spar_oiio_image_free(SparOiioImage* image) { delete image; }
 
 void spar_oiio_string_free(char* message) { std::free(message); }

@@ -124,6 +124,17 @@ void spar_oiio_image_free(SparOiioImage* image);
 /* Releases an error message (NULL is allowed). */
 void spar_oiio_string_free(char* message);
 
+/* Draws `text` into a float image in place (width * height * nchannels
+ * values, interleaved, top row first), its baseline starting at pixel
+ * (x, y), `size` pixels high, in `font` (a font name such as "DejaVuSans",
+ * found through the system's font directories, or a path to a font file)
+ * and `colour` (nchannels floats). Returns NULL on success, else an owned
+ * message (for example when the font cannot be found). */
+char* spar_oiio_render_text(float* pixels, int32_t width, int32_t height,
+                            int32_t nchannels, int32_t x, int32_t y,
+                            const char* text, const char* font, int32_t size,
+                            const float* colour);
+
 /* Layout of the structs above as this compiler sees them, for spar-sys's
  * ABI test: `item` is "<Struct>.size", "<Struct>.align" or
  * "<Struct>.<field>" (the field's offset). Returns -1 for an unknown item. */

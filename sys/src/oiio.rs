@@ -76,6 +76,20 @@ extern "C" {
     pub fn spar_oiio_image_free(image: *mut SparOiioImage);
     /// Releases an error message (NULL allowed).
     pub fn spar_oiio_string_free(message: *mut c_char);
+    /// Draws text into a float image in place; NULL on success, else an
+    /// owned message.
+    pub fn spar_oiio_render_text(
+        pixels: *mut f32,
+        width: i32,
+        height: i32,
+        nchannels: i32,
+        x: i32,
+        y: i32,
+        text: *const c_char,
+        font: *const c_char,
+        size: i32,
+        colour: *const f32,
+    ) -> *mut c_char;
     /// Size, alignment or field offset of the shim's structs, -1 if unknown.
     pub fn spar_oiio_abi_layout(item: *const c_char) -> i64;
 }

@@ -1,0 +1,156 @@
+//! `spar contact-sheet SCENE… -o sheet.png`: renders every scene in every
+//! mode and lays the images out in a labelled grid (a row per scene, a
+//! column per mode). The seed paper's sixteen images are
+//! `spar contact-sheet scenes/{glass,calcite}-{unpolarized,polarized}.toml`.
+
+use super::render::{render_film, SceneOverrides};
+use super::CliError;
+use crate::image::{draw_text, Image, PixelType, WriteOptions};
+use crate::render::output::{develop, OutputMode};
+use crate::scene::Scene;
+use std::path::PathBuf;
+
+/// Font for the labels, found through the system's font directories
+/// (Debian: fonts-dejavu-core).
+const FONT: &str = "DejaVuSans";
+const LABEL_HEIGHT: usize = 22;
+const GAP: usize = 4;
+
+#[derive(clap::Args, Debug)]
+pub struct ContactSheetArgs {
+    /// Scene files, one row each.
+    #[arg(required = true)]
+    pub scenes: Vec<PathBuf>,
+    /// Camera modes, one column each.
+    #[arg(
+        long,
+        short,
+        value_delimiter = ',',
+        default_value = "color,mono,dop,ellipticity-paper"
+    )]
+    pub mode: Vec<OutputMode>,
+    /// The sheet (PNG).
+    #[arg(long, short, default_value = "contact-sheet.png")]
+    pub output: PathBuf,
+    /// Wavelength of the single-wavelength modes, nm.
+    #[arg(long, default_value_t = 580.0)]
+    pub wavelength: f64,
+    #[command(flatten)]
+    pub overrides: SceneOverrides,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// No progress output.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
+    if args.mode.contains(&OutputMode::Stokes) {
+        return Err(CliError::Input(
+            "the stokes mode is data (EXR), not a picture: leave it out of a contact sheet".into(),
+        ));
+    }
+    if !(args.wavelength.is_finite() && (360.0..=830.0).contains(&args.wavelength)) {
+        return Err(CliError::Input(format!(
+            "--wavelength {} is outside 360–830 nm",
+            args.wavelength
+        )));
+    }
+    // Load and check every scene before rendering any.
+    let mut scenes = Vec::new();
+    for path in &args.scenes {
+        let mut scene = Scene::load(path).map_err(|e| CliError::Input(e.to_string()))?;
+        args.overrides.apply(&mut scene)?;
+        scenes.push(scene);
+    }
+    let (w, h) = (
+        scenes[0].camera.width as usize,
+        scenes[0].camera.height as usize,
+    );
+    if let Some((i, _)) = scenes
+        .iter()
+        .enumerate()
+        .find(|(_, s)| (s.camera.width as usize, s.camera.height as usize) != (w, h))
+    {
+        return Err(CliError::Input(format!(
+            "{}: its resolution differs from {}'s; give --resolution to render all at one size",
+            args.scenes[i].display(),
+            args.scenes[0].display()
+        )));
+    }
+    // Layout: a header strip with the mode of each column, then for each
+    // scene a strip with its name above its row of images.
+    let cols = args.mode.len();
+    let rows = scenes.len();
+    let cell_w = w + GAP;
+    let row_h = LABEL_HEIGHT + h + GAP;
+    let (sheet_w, sheet_h) = (GAP + cols * cell_w, LABEL_HEIGHT + rows * row_h);
+    let mut sheet = vec![0.0f32; sheet_w * sheet_h * 3];
+    let baseline = |top: usize| (top + LABEL_HEIGHT - 6) as i32;
+    let mut labels = Vec::new();
+    for (c, &mode) in args.mode.iter().enumerate() {
+        let label = match mode {
+            OutputMode::Color => "color".to_string(),
+            OutputMode::Mono => format!("mono {:.0} nm", args.wavelength),
+            OutputMode::Dop => format!("DoP {:.0} nm", args.wavelength),
+            OutputMode::Ellipticity => format!("b/a {:.0} nm", args.wavelength),
+            OutputMode::EllipticityPaper => format!("E paper {:.0} nm", args.wavelength),
+            OutputMode::Azimuth => format!("azimuth {:.0} nm", args.wavelength),
+            OutputMode::Stokes => unreachable!("refused above"),
+        };
+        labels.push(((GAP + c * cell_w) as i32 + 2, baseline(0), label));
+    }
+    for (r, (scene, path)) in scenes.iter().zip(&args.scenes).enumerate() {
+        if !args.quiet {
+            eprintln!("rendering {}", path.display());
+        }
+        let threads = args.threads.unwrap_or(0);
+        let done = render_film(scene, &args.mode, args.wavelength, threads, !args.quiet)?;
+        let name = path.file_stem().map_or_else(
+            || path.display().to_string(),
+            |s| s.to_string_lossy().into_owned(),
+        );
+        let top = LABEL_HEIGHT + r * row_h;
+        labels.push((GAP as i32 + 2, baseline(top), name));
+        for (c, &mode) in args.mode.iter().enumerate() {
+            let image = develop(
+                &done.film,
+                mode,
+                &scene.settings.wavelengths,
+                args.wavelength,
+            )
+            .map_err(CliError::Failed)?;
+            let (x0, y0) = (GAP + c * cell_w, top + LABEL_HEIGHT);
+            for y in 0..h {
+                for x in 0..w {
+                    let src = image.pixel(x, y);
+                    let dst = ((y0 + y) * sheet_w + x0 + x) * 3;
+                    sheet[dst..dst + 3].copy_from_slice(&src[..3]);
+                }
+            }
+        }
+    }
+    let mut image = Image::new(
+        sheet_w,
+        sheet_h,
+        vec!["R".into(), "G".into(), "B".into()],
+        sheet,
+    )
+    .map_err(|e| CliError::Failed(e.to_string()))?;
+    let size = 14;
+    for (x, y, text) in &labels {
+        draw_text(&mut image, *x, *y, text, size, FONT, &[1.0, 1.0, 1.0]).map_err(|e| {
+            CliError::Failed(format!(
+                "{e} (labels use the font {FONT}; on Debian install fonts-dejavu-core)"
+            ))
+        })?;
+    }
+    let image = image.with_metadata("spar:version", crate::VERSION);
+    crate::image::write(&args.output, &image, WriteOptions::new(PixelType::U8))
+        .map_err(|e| CliError::Input(e.to_string()))?;
+    if !args.quiet {
+        eprintln!("wrote {}", args.output.display());
+    }
+    Ok(())
+}
