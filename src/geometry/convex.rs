@@ -13,13 +13,16 @@
 //!
 //! After the last cut every vertex is recomputed from the planes of the
 //! faces that meet there (a least-squares solve, exact when three planes
-//! meet), vertices closer than the weld tolerance are merged, and the merged
-//! vertex is again solved from all of its planes, so no facet bends by more
-//! than the tolerance (checked). Planes that end up without a facet are
+//! meet). Edges shorter than the weld tolerance are contracted: their
+//! vertices become the point solved from all of their planes, if that point
+//! lies within the tolerance of every one of them; otherwise they stay apart
+//! (a short edge), so no facet ever bends by more than the tolerance. If
+//! welding would leave the surface inconsistent (short edges crowding), the
+//! unwelded polyhedron is returned. Planes that end up without a facet are
 //! reported with the reason ([`PlaneFate`]).
 
 use super::mesh::{Mesh, TopologyError};
-use glam::{DMat3, DVec3};
+use glam::DVec3;
 use std::collections::HashMap;
 
 /// The closed half-space `normal · x <= offset`.
@@ -366,7 +369,7 @@ impl<'a> Clipper<'a> {
     }
 
     /// Recomputes vertices from their planes, welds, and builds the result.
-    fn finish(mut self, mut fates: Vec<PlaneFate>) -> Result<Polytope, ConvexError> {
+    fn finish(mut self, fates: Vec<PlaneFate>) -> Result<Polytope, ConvexError> {
         // Keep only the vertices the faces use.
         let mut remap = vec![u32::MAX; self.positions.len()];
         let mut positions = Vec::new();
@@ -389,9 +392,27 @@ impl<'a> Clipper<'a> {
         for (p, planes) in positions.iter_mut().zip(&incident) {
             *p = solve_point(planes.iter().map(|&i| self.planes[i]), *p);
         }
-        // Weld vertices closer than the tolerance: one vertex per cluster,
-        // solved from all the cluster's planes.
-        let cluster = clusters(&positions, self.weld);
+        match self.weld_and_build(&positions, &incident, fates.clone(), self.weld) {
+            // Welding can pinch a surface where short edges crowd; the
+            // unwelded polyhedron is still exact, with short edges.
+            Err(ConvexError::Topology(_)) if self.weld > 0.0 => {
+                self.weld_and_build(&positions, &incident, fates, 0.0)
+            }
+            result => result,
+        }
+    }
+
+    /// Contracts every connected set of edges shorter than `weld` into one
+    /// vertex where that vertex stays within `weld` of all their planes, drops
+    /// faces left with fewer than three vertices, and checks the result.
+    fn weld_and_build(
+        &self,
+        positions: &[DVec3],
+        incident: &[Vec<usize>],
+        mut fates: Vec<PlaneFate>,
+        weld: f64,
+    ) -> Result<Polytope, ConvexError> {
+        let cluster = short_edge_clusters(&self.faces, positions, weld);
         let mut members: HashMap<usize, Vec<usize>> = HashMap::new();
         for (v, &c) in cluster.iter().enumerate() {
             members.entry(c).or_default().push(v);
@@ -409,15 +430,25 @@ impl<'a> Clipper<'a> {
                 .collect();
             planes.sort_unstable();
             planes.dedup();
-            let p = if group.len() == 1 {
-                positions[group[0]]
+            let merged = solve_point(planes.iter().map(|&i| self.planes[i]), centroid);
+            let bend = planes
+                .iter()
+                .map(|&i| self.planes[i].distance(merged).abs())
+                .fold(0.0, f64::max);
+            if group.len() > 1 && bend <= weld {
+                for &v in group {
+                    id_of[v] = welded.len() as u32;
+                }
+                welded.push(merged);
             } else {
-                solve_point(planes.iter().map(|&i| self.planes[i]), centroid)
-            };
-            for &v in group {
-                id_of[v] = welded.len() as u32;
+                // One vertex, or a cluster whose planes do not meet within
+                // the tolerance: welding would bend a facet, so its short
+                // edges stay (validation reports them).
+                for &v in group {
+                    id_of[v] = welded.len() as u32;
+                    welded.push(positions[v]);
+                }
             }
-            welded.push(p);
         }
         let mut faces = Vec::with_capacity(self.faces.len());
         for face in &self.faces {
@@ -459,11 +490,11 @@ impl<'a> Clipper<'a> {
             let plane = self.planes[f.plane];
             for &v in &f.vertices {
                 let dev = plane.distance(welded[v as usize]).abs();
-                if dev > self.weld.max(self.eps) {
+                if dev > weld.max(self.eps) {
                     return Err(ConvexError::Bent {
                         plane: f.plane,
                         deviation: dev,
-                        weld: self.weld,
+                        weld,
                     });
                 }
                 max_dev = max_dev.max(dev);
@@ -475,7 +506,7 @@ impl<'a> Clipper<'a> {
             planes: self.planes.to_vec(),
             fates,
             max_plane_deviation: max_dev,
-            weld: self.weld,
+            weld,
         };
         polytope
             .to_mesh(|_| None)
@@ -553,30 +584,64 @@ fn close_hole(faces: &[Face], positions: &[DVec3], normal: DVec3) -> Vec<u32> {
 /// toward `guess` so that the solve stays defined when fewer than three
 /// independent planes meet.
 fn solve_point(planes: impl Iterator<Item = HalfSpace>, guess: DVec3) -> DVec3 {
-    // Normal equations Σ n nᵀ x = Σ n d, with Tikhonov weight λ toward guess.
-    let lambda = 1e-12;
-    let mut m = DMat3::from_diagonal(DVec3::splat(lambda));
-    let mut b = lambda * guess;
-    for p in planes {
-        let n = p.normal;
-        m += DMat3::from_cols(n * n.x, n * n.y, n * n.z);
-        b += n * p.offset;
-    }
-    let det = m.determinant();
-    if !(det.abs() > 1e-30) {
-        return guess;
-    }
-    let x = m.inverse() * b;
-    if x.is_finite() {
-        x
-    } else {
-        guess
+    // Solve for the step y = x − guess: rows n · y = d − n · guess, plus
+    // Tikhonov rows s·y = 0 (weight s² = 1e-12). Householder QR, not the
+    // normal equations, whose squared condition number would let nearly
+    // coplanar normals put the point ~1e-8 off its planes.
+    let s = 1e-6;
+    let mut rows: Vec<[f64; 4]> = planes
+        .map(|p| {
+            let n = p.normal;
+            [n.x, n.y, n.z, p.offset - n.dot(guess)]
+        })
+        .collect();
+    rows.extend([[s, 0.0, 0.0, 0.0], [0.0, s, 0.0, 0.0], [0.0, 0.0, s, 0.0]]);
+    match least_squares(&mut rows) {
+        Some(y) if y.is_finite() => guess + y,
+        _ => guess,
     }
 }
 
-/// Cluster id (a representative index) of each point, joining points closer
-/// than `tol` (transitively).
-fn clusters(points: &[DVec3], tol: f64) -> Vec<usize> {
+/// Least-squares solution of the rows `[a0 a1 a2 | b]` (at least three) by
+/// Householder QR; `None` if rank-deficient.
+fn least_squares(rows: &mut [[f64; 4]]) -> Option<DVec3> {
+    let m = rows.len();
+    for j in 0..3 {
+        let norm = (j..m).map(|i| rows[i][j] * rows[i][j]).sum::<f64>().sqrt();
+        if !(norm > 0.0) {
+            return None;
+        }
+        // Reflect column j below the diagonal onto ∓norm·e_j.
+        let alpha = if rows[j][j] > 0.0 { -norm } else { norm };
+        let mut v: Vec<f64> = (j..m).map(|i| rows[i][j]).collect();
+        v[0] -= alpha;
+        let vv: f64 = v.iter().map(|x| x * x).sum();
+        if vv == 0.0 {
+            continue;
+        }
+        for c in j..4 {
+            let dot: f64 = (j..m).map(|i| v[i - j] * rows[i][c]).sum();
+            let f = 2.0 * dot / vv;
+            for i in j..m {
+                rows[i][c] -= f * v[i - j];
+            }
+        }
+    }
+    // Back substitution in the 3×3 upper triangle.
+    let mut x = [0.0; 3];
+    for j in (0..3).rev() {
+        let r = rows[j][j];
+        if r == 0.0 {
+            return None;
+        }
+        x[j] = (rows[j][3] - (j + 1..3).map(|k| rows[j][k] * x[k]).sum::<f64>()) / r;
+    }
+    Some(DVec3::from_array(x))
+}
+
+/// Cluster id (a representative vertex) of each vertex, joining the ends
+/// of every face edge shorter than `tol` (transitively).
+fn short_edge_clusters(faces: &[Face], points: &[DVec3], tol: f64) -> Vec<usize> {
     let mut parent: Vec<usize> = (0..points.len()).collect();
     fn root(parent: &mut [usize], mut i: usize) -> usize {
         while parent[i] != i {
@@ -585,18 +650,13 @@ fn clusters(points: &[DVec3], tol: f64) -> Vec<usize> {
         }
         i
     }
-    if tol > 0.0 {
-        let mut order: Vec<usize> = (0..points.len()).collect();
-        order.sort_by(|&a, &b| points[a].x.total_cmp(&points[b].x));
-        for (k, &i) in order.iter().enumerate() {
-            for &j in &order[k + 1..] {
-                if points[j].x - points[i].x >= tol {
-                    break;
-                }
-                if points[i].distance(points[j]) < tol {
-                    let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
-                    parent[ri.max(rj)] = ri.min(rj);
-                }
+    for f in faces {
+        let n = f.vertices.len();
+        for k in 0..n {
+            let (a, b) = (f.vertices[k] as usize, f.vertices[(k + 1) % n] as usize);
+            if points[a].distance(points[b]) < tol {
+                let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+                parent[ra.max(rb)] = ra.min(rb);
             }
         }
     }

@@ -5,6 +5,7 @@ pub mod convex;
 pub mod cuts;
 pub mod mesh;
 pub mod obj;
+pub mod validate;
 
 pub use mesh::{Facet, Mesh, TopologyError};
 pub use obj::{load_obj, parse_obj, ObjError};

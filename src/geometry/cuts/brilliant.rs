@@ -34,14 +34,14 @@
 use super::super::convex::HalfSpace;
 use super::{check, horizontal, named, through, tilted, NamedPlane};
 use glam::DVec3;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// Length-to-width ratio of an oval unless given.
 pub const OVAL_RATIO: f64 = 1.4;
 
 /// Proportions of a round or oval brilliant (fractions of the diameter,
 /// angles in degrees from the girdle plane).
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Brilliant {
     /// Girdle diameter (the width of an oval), in scene units. Default 1.
@@ -65,6 +65,7 @@ pub struct Brilliant {
     /// Vertical facets of the girdle band (a multiple of 16). Default 16.
     pub girdle_facets: u32,
     /// Length over width (ovals only; default 1.4).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub ratio: Option<f64>,
 }
 

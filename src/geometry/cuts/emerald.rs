@@ -19,10 +19,10 @@
 use super::super::convex::HalfSpace;
 use super::{check, horizontal, named, tilted, NamedPlane};
 use glam::DVec3;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// Proportions of an emerald cut (fractions of the width, degrees).
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Emerald {
     /// Width of the girdle outline, in scene units. Default 1.

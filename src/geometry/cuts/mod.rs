@@ -29,11 +29,11 @@ pub use write::write_obj;
 use super::convex::{intersect, HalfSpace, IntersectOptions, Stone};
 use super::mesh::Mesh;
 use glam::DVec3;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// A standard cut and its parameters, as a scene file or the command line
 /// names it.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(tag = "name", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum Cut {
     /// The round brilliant (57 facets, 58 with a culet, plus the girdle
@@ -100,6 +100,12 @@ impl Cut {
     pub fn stone(&self) -> Result<Stone, String> {
         let planes = self.planes()?;
         build(&planes, self.size()).map_err(|e| format!("{}: {e}", self.name()))
+    }
+
+    /// The cut as a TOML table: `name = "…"` and every parameter, as a
+    /// scene file would write it.
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).unwrap_or_else(|e| format!("# cannot describe the cut: {e}"))
     }
 
     /// The cut's mesh (see [`Cut::stone`] for the notes on vanished facets).

@@ -18,10 +18,10 @@
 use super::super::convex::HalfSpace;
 use super::{check, horizontal, named, through, tilted, NamedPlane};
 use glam::DVec3;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// Proportions of a princess (fractions of the width, degrees).
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Princess {
     /// Side of the square girdle, in scene units. Default 1.

@@ -5,6 +5,16 @@
 use super::super::mesh::Mesh;
 use std::fmt::Write;
 
+/// The shortest text that reads back to `x`, in exponent form when tiny
+/// (rounding noise such as 6e-17 would otherwise print 17 zeros).
+fn number(x: f64) -> String {
+    if x != 0.0 && x.abs() < 1e-4 {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
 /// The OBJ text of `mesh`, `comments` first (each line prefixed `# `).
 /// Unnamed facets are grouped as `facet-<n>`; whitespace in names becomes
 /// `_` (OBJ names are single words).
@@ -16,7 +26,7 @@ pub fn write_obj(mesh: &Mesh, comments: &[String]) -> String {
         }
     }
     for p in &mesh.positions {
-        let _ = writeln!(out, "v {} {} {}", p.x, p.y, p.z);
+        let _ = writeln!(out, "v {} {} {}", number(p.x), number(p.y), number(p.z));
     }
     for (i, f) in mesh.facets.iter().enumerate() {
         let name = f.name.as_deref().map_or_else(
