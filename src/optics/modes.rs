@@ -36,9 +36,11 @@
 //! - Ordinary: `E = unit(k × c)` (`c` the optic axis). When `k ∥ c`
 //!   (`|k × c| ≤ 1e-14 |k|`) the o and e waves are degenerate and `E = s`,
 //!   the choice "from the plane of incidence". That equals `±unit(k × c)` in
-//!   the limit `k → c` within the plane of incidence; the residual mismatch
-//!   of a non-eigen direction near the axis is of order (angle error) ×
-//!   (index splitting ~ κ sin²θ), far below rounding.
+//!   the limit `k → c` within the plane of incidence. Near the axis the f64
+//!   direction of `k × c` carries an error ≈ ε/sin θ (θ the angle to the
+//!   axis); it costs nothing, because a polarization error φ mismatches the
+//!   eigenmode only by φ × (the o/e splitting, ~ κ sin²θ) ≈ ε sin θ. (A
+//!   double-double `k × c` was tried and changed no test statistic.)
 //! - Extraordinary: `D ∥ k × E_o(k)` with `E_o(k)` the ordinary direction for
 //!   the extraordinary wave vector, `E = ε⁻¹ D` normalized to unit length
 //!   (not transverse to `k`; it is transverse to the ray `S`).
@@ -480,17 +482,6 @@ impl Dd {
     }
 
     #[inline]
-    fn mul(self, b: f64) -> Dd {
-        let p = Dd::prod(self.hi, b);
-        let lo = p.lo + self.lo * b;
-        let hi = p.hi + lo;
-        Dd {
-            hi,
-            lo: lo - (hi - p.hi),
-        }
-    }
-
-    #[inline]
     fn value(self) -> f64 {
         self.hi + self.lo
     }
@@ -563,7 +554,7 @@ impl Eigenwave {
         let (q, g_n) = sheet.root(dir);
         let evanescent = !sheet.propagates();
         let k = CVec3::new(frame.t + frame.normal * q.re, frame.normal * q.im);
-        let e = field(medium, frame, mode, k, q);
+        let e = field(medium, frame, mode, k);
         let h = k.cross(e);
         let (ray, flux) = if evanescent {
             // Time-averaged Poynting vector of a single decaying wave: no
@@ -618,58 +609,22 @@ fn unit_or(v: CVec3, scale2: f64, tol2: f64, fallback: DVec3) -> CVec3 {
     }
 }
 
-/// `k × c` for `k = t + q N`, each component summed in double-double.
-///
-/// Near the optic axis `k × c` is a small difference of O(n) products; in
-/// plain f64 its direction (the ordinary polarization) would carry an error
-/// ε n / |k × c|, and the o and e columns of the boundary system would no
-/// longer be exact eigenmodes. Near grazing that mismatch is amplified by
-/// 1/F_incident and showed up as ~1e-12 energy errors. Summed exactly, the
-/// direction is exact for the given `t` and `q`.
-#[inline]
-fn k_cross_axis(frame: &TangentFrame, q: Complex64, c: DVec3) -> CVec3 {
-    let t = frame.t;
-    let n = frame.normal;
-    // (a × c)_i = a_j c_k − a_k c_j over cyclic (i, j, k).
-    let comp = |tj: f64, tk: f64, nj: f64, nk: f64, cj: f64, ck: f64| {
-        let n_x_c = Dd::prod(nj, ck).sub(Dd::prod(nk, cj));
-        Dd::prod(tj, ck)
-            .sub(Dd::prod(tk, cj))
-            .add(n_x_c.mul(q.re))
-            .value()
-    };
-    let re = DVec3::new(
-        comp(t.y, t.z, n.y, n.z, c.y, c.z),
-        comp(t.z, t.x, n.z, n.x, c.z, c.x),
-        comp(t.x, t.y, n.x, n.y, c.x, c.y),
-    );
-    CVec3::new(re, n.cross(c) * q.im)
-}
-
 /// The unit-amplitude electric field of `mode` with wave vector `k` (see the
 /// module docs for each case).
 #[inline]
-fn field(medium: &Medium, frame: &TangentFrame, mode: Mode, k: CVec3, q: Complex64) -> CVec3 {
+fn field(medium: &Medium, frame: &TangentFrame, mode: Mode, k: CVec3) -> CVec3 {
     match (*medium, mode) {
         // Isotropic s: E = s (optics.md §4).
         (Medium::Isotropic { .. }, Mode::S) => CVec3::real(frame.s),
         // Isotropic p: E = k × s / n, so (s, p, k̂) is right-handed.
         (Medium::Isotropic { n }, _) => k.cross_real(frame.s) * (1.0 / n),
         // Ordinary: E ∥ k × c; s when k ∥ c (degenerate).
-        (Medium::Uniaxial { axis, .. }, Mode::O) => unit_or(
-            k_cross_axis(frame, q, axis),
-            k.norm_sqr(),
-            AXIS_TOL_SQUARED,
-            frame.s,
-        ),
+        (Medium::Uniaxial { axis, .. }, Mode::O) => {
+            unit_or(k.cross_real(axis), k.norm_sqr(), AXIS_TOL_SQUARED, frame.s)
+        }
         // Extraordinary: D ∥ k × E_o(k), E = ε⁻¹ D (optics.md §4, B&W 15.3).
         (Medium::Uniaxial { n_o, n_e, axis }, _) => {
-            let e_o = unit_or(
-                k_cross_axis(frame, q, axis),
-                k.norm_sqr(),
-                AXIS_TOL_SQUARED,
-                frame.s,
-            );
+            let e_o = unit_or(k.cross_real(axis), k.norm_sqr(), AXIS_TOL_SQUARED, frame.s);
             let d = k.cross(e_o);
             let e = inverse_epsilon(n_o, n_e, axis, d);
             e * (1.0 / e.norm_sqr().sqrt())
