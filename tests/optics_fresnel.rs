@@ -273,7 +273,7 @@ fn fresnel_rhomb_makes_circular_light() {
 fn normal_incidence_is_rotation_invariant() {
     // At normal incidence s is a fixed tangent of N; the physical fields
     // must not depend on it: E_r = (n₁ − n₂)/(n₁ + n₂) E_i and
-    // E_t = 2 n₁/(n₁ + n₂) E_i for every transverse E_i (B&W 1.5 (25)).
+    // E_t = 2 n₁/(n₁ + n₂) E_i for every transverse E_i (B&W §1.5, normal incidence).
     let mut rng = rng(17);
     for _ in 0..200 {
         let n = unit(&mut rng);
@@ -326,7 +326,7 @@ fn evanescent_waves_decay_away_from_the_interface() {
             .map(|&d| (Complex64::i() * o.wave.q * (side.sign() * d)).exp().norm())
             .collect();
         assert!(amp[1] < amp[0] && amp[0] < 1.0, "{side:?}: {amp:?}");
-        // Its decay constant is √(T² − n₂²) (B&W 1.5 (55)).
+        // Its decay constant is √(T² − n₂²) (B&W §1.5.4).
         let want = ((n * th.sin()).powi(2) - 1.0).sqrt();
         assert!(close(o.wave.q.im.abs(), want, 1e-15));
         // A single evanescent wave carries no normal energy.

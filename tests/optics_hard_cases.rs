@@ -306,7 +306,7 @@ fn wave_vector_along_the_optic_axis_from_outside() {
     // Axis along the normal, normal incidence: o and e are degenerate (both
     // index n_o, k × c = 0, the "plane of incidence" fallback). The crystal
     // must act as an isotropic medium of index n_o for every polarization:
-    // E_r = (1 − n_o)/(1 + n_o) E_i, E_t = 2/(1 + n_o) E_i (B&W 1.5 (25)),
+    // E_r = (1 − n_o)/(1 + n_o) E_i, E_t = 2/(1 + n_o) E_i (B&W §1.5, normal incidence),
     // to rounding (1e-14 for O(1) fields). Within 1e-9 of the axis the
     // fields move by O(1e-9) (smooth in t, see `normal_incidence_on_crystals`).
     let (n_o, _) = CALCITE;

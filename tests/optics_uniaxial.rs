@@ -38,7 +38,7 @@ fn tan_walk_off(theta: f64) -> f64 {
 }
 
 /// Normal-incidence transmittance between index 1 and index n:
-/// 4n/(1 + n)² (B&W 1.5 (25)).
+/// 4n/(1 + n)² (B&W §1.5, normal incidence).
 fn t_normal(n: f64) -> f64 {
     4.0 * n / (1.0 + n).powi(2)
 }
@@ -315,7 +315,7 @@ fn every_eigenwave_satisfies_maxwell_and_the_energy_rule() {
             if !(w.evanescent && w.mode == Mode::P) {
                 assert!(close(w.e.norm_sqr(), 1.0, 1e-14), "case {case}");
             }
-            // Wave equation k × (k × E) + ε E = 0 (B&W 15.2 (9)).
+            // Wave equation k × (k × E) + ε E = 0 (B&W §15.2).
             let res = w.k.cross(w.k.cross(w.e)) + epsilon_times(m, w.e);
             assert!(
                 res.norm_sqr().sqrt() < 1e-13 * nmax * nmax,

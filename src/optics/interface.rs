@@ -1,6 +1,7 @@
 //! The forward interface problem: one incident plane wave, every outgoing
-//! wave with its amplitude (optics.md §4; Yariv & Yeh §4.6; Born & Wolf
-//! §1.5, §15.4).
+//! wave with its amplitude (optics.md §4; the tangential-field 4×4 method
+//! of Berreman, JOSA 62, 502 (1972); Yariv & Yeh ch. 4; Born & Wolf
+//! §1.5 and ch. 15).
 //!
 //! One 4×4 complex system covers every pair of media: the tangential
 //! components (along `s` and `u = N × s`, see [`super::modes`]) of `E` and

@@ -1,6 +1,6 @@
 //! Eigenwaves (plane-wave modes) of isotropic and uniaxial media that share
 //! one tangential wave vector at an interface (optics.md §4; Born & Wolf
-//! §15.2–15.3; Yariv & Yeh ch. 4).
+//! ch. 15; Yariv & Yeh ch. 4).
 //!
 //! # Conventions (all of spar's interface physics uses these)
 //!
@@ -622,7 +622,7 @@ fn field(medium: &Medium, frame: &TangentFrame, mode: Mode, k: CVec3) -> CVec3 {
         (Medium::Uniaxial { axis, .. }, Mode::O) => {
             unit_or(k.cross_real(axis), k.norm_sqr(), AXIS_TOL_SQUARED, frame.s)
         }
-        // Extraordinary: D ∥ k × E_o(k), E = ε⁻¹ D (optics.md §4, B&W 15.3).
+        // Extraordinary: D ∥ k × E_o(k), E = ε⁻¹ D (optics.md §4, B&W ch. 15).
         (Medium::Uniaxial { n_o, n_e, axis }, _) => {
             let e_o = unit_or(k.cross_real(axis), k.norm_sqr(), AXIS_TOL_SQUARED, frame.s);
             let d = k.cross(e_o);
