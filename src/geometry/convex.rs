@@ -605,25 +605,25 @@ fn solve_point(planes: impl Iterator<Item = HalfSpace>, guess: DVec3) -> DVec3 {
 /// Least-squares solution of the rows `[a0 a1 a2 | b]` (at least three) by
 /// Householder QR; `None` if rank-deficient.
 fn least_squares(rows: &mut [[f64; 4]]) -> Option<DVec3> {
-    let m = rows.len();
     for j in 0..3 {
-        let norm = (j..m).map(|i| rows[i][j] * rows[i][j]).sum::<f64>().sqrt();
+        let norm = rows[j..].iter().map(|r| r[j] * r[j]).sum::<f64>().sqrt();
         if !(norm > 0.0) {
             return None;
         }
         // Reflect column j below the diagonal onto ∓norm·e_j.
         let alpha = if rows[j][j] > 0.0 { -norm } else { norm };
-        let mut v: Vec<f64> = (j..m).map(|i| rows[i][j]).collect();
+        let mut v: Vec<f64> = rows[j..].iter().map(|r| r[j]).collect();
         v[0] -= alpha;
         let vv: f64 = v.iter().map(|x| x * x).sum();
         if vv == 0.0 {
             continue;
         }
         for c in j..4 {
-            let dot: f64 = (j..m).map(|i| v[i - j] * rows[i][c]).sum();
+            let below = &mut rows[j..];
+            let dot: f64 = below.iter().zip(&v).map(|(row, vi)| vi * row[c]).sum();
             let f = 2.0 * dot / vv;
-            for i in j..m {
-                rows[i][c] -= f * v[i - j];
+            for (row, vi) in below.iter_mut().zip(&v) {
+                row[c] -= f * vi;
             }
         }
     }

@@ -472,6 +472,29 @@ mod tests {
     }
 
     #[test]
+    fn near_zero_area_facets_are_named() {
+        // A flat sliver triangle 1e-14 high next to a healthy one.
+        let positions = vec![
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::new(0.5, 1e-14, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+        ];
+        let polys = vec![
+            (vec![0, 1, 2], Some("sliver".into())),
+            (vec![0, 1, 3], None),
+        ];
+        let r = validate(&Mesh::from_polygons(positions, polys).unwrap());
+        assert_eq!(r.degenerate.len(), 1);
+        assert_eq!(r.degenerate[0].name.as_deref(), Some("sliver"));
+        assert!(
+            r.warnings()[0].starts_with("facet 1 (sliver) is degenerate"),
+            "{:?}",
+            r.warnings()
+        );
+    }
+
+    #[test]
     fn open_meshes_are_errors() {
         let mut m = cube(0.0);
         m.facets.pop();
