@@ -260,8 +260,35 @@ impl<'a> Clipper<'a> {
         let mut fates = Vec::with_capacity(self.planes.len());
         for id in 0..self.planes.len() {
             fates.push(self.apply(id)?);
+            if self.positions.len() > 4096 {
+                self.compact();
+            }
         }
         Ok(fates)
+    }
+
+    /// Drops vertices no face uses any more (cut away), renumbering the
+    /// rest, when they outnumber the live ones.
+    fn compact(&mut self) {
+        let mut remap = vec![u32::MAX; self.positions.len()];
+        let mut live = Vec::new();
+        for face in &self.faces {
+            for &v in &face.vertices {
+                if remap[v as usize] == u32::MAX {
+                    remap[v as usize] = live.len() as u32;
+                    live.push(self.positions[v as usize]);
+                }
+            }
+        }
+        if 2 * live.len() > self.positions.len() {
+            return;
+        }
+        for face in &mut self.faces {
+            for v in &mut face.vertices {
+                *v = remap[*v as usize];
+            }
+        }
+        self.positions = live;
     }
 
     /// Clips the polyhedron by plane `id`, closing the hole with a new face.
@@ -347,7 +374,11 @@ impl<'a> Clipper<'a> {
                 });
             }
         }
-        let cap = close_hole(&faces, &self.positions, plane.normal);
+        // The hole's rim lies in the plane: only edges between vertices on
+        // it (classified on, or just made) can bound it.
+        let made = distance.len() as u32;
+        let in_plane = |v: u32| v >= made || side(v) == Side::On;
+        let cap = close_hole(&faces, &in_plane, &self.positions, plane.normal);
         if cap.len() >= 3 {
             faces.push(Face {
                 plane: id,
@@ -516,18 +547,25 @@ impl<'a> Clipper<'a> {
     }
 }
 
-/// The face that closes the hole a cut left: the boundary edges a–b (used
-/// by one face only) traversed backwards, chained into one loop. Falls back
+/// The face that closes the hole a cut left: the boundary edges a–b (edges
+/// between vertices `in_plane`, used by one face only) traversed backwards,
+/// chained into one loop. Falls back
 /// to ordering the boundary vertices by angle about the plane normal if the
 /// edges do not chain into a single loop.
-fn close_hole(faces: &[Face], positions: &[DVec3], normal: DVec3) -> Vec<u32> {
+fn close_hole(
+    faces: &[Face],
+    in_plane: &dyn Fn(u32) -> bool,
+    positions: &[DVec3],
+    normal: DVec3,
+) -> Vec<u32> {
     let mut directed: HashMap<(u32, u32), usize> = HashMap::new();
     for f in faces {
         let n = f.vertices.len();
         for i in 0..n {
-            *directed
-                .entry((f.vertices[i], f.vertices[(i + 1) % n]))
-                .or_default() += 1;
+            let (a, b) = (f.vertices[i], f.vertices[(i + 1) % n]);
+            if in_plane(a) && in_plane(b) {
+                *directed.entry((a, b)).or_default() += 1;
+            }
         }
     }
     let mut next: HashMap<u32, u32> = HashMap::new();

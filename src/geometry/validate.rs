@@ -376,24 +376,34 @@ pub fn load_mesh(path: &Path) -> Result<LoadedMesh, String> {
 /// [`load_mesh`] for bytes already in memory; `file` names them and its
 /// extension picks the format.
 pub fn mesh_from_bytes(bytes: &[u8], file: &str) -> Result<LoadedMesh, String> {
-    let (mesh, mut warnings) = match MeshFormat::of(file) {
-        Some(MeshFormat::Obj) => {
+    match MeshFormat::of(file) {
+        Some(format) => mesh_from_bytes_as(bytes, file, format),
+        None => Err(format!(
+            "{file}: unknown mesh format (expected .obj or .asc)"
+        )),
+    }
+}
+
+/// [`mesh_from_bytes`] with the format given (for names without an
+/// extension, such as `builtin:trichecker12`).
+pub fn mesh_from_bytes_as(
+    bytes: &[u8],
+    file: &str,
+    format: MeshFormat,
+) -> Result<LoadedMesh, String> {
+    let (mesh, mut warnings) = match format {
+        MeshFormat::Obj => {
             let text = String::from_utf8_lossy(bytes);
             (
                 parse_obj(&text, file).map_err(|e| e.to_string())?,
                 Vec::new(),
             )
         }
-        Some(MeshFormat::Asc) => {
+        MeshFormat::Asc => {
             let stone = parse_asc(bytes, file)
                 .and_then(|d| d.stone())
                 .map_err(|e| e.to_string())?;
             (stone.mesh, stone.notes)
-        }
-        None => {
-            return Err(format!(
-                "{file}: unknown mesh format (expected .obj or .asc)"
-            ))
         }
     };
     let report = validate(&mesh);
