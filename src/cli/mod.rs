@@ -6,6 +6,7 @@ use clap::{Parser, Subcommand};
 use std::fmt;
 
 pub mod contact_sheet;
+pub mod cut;
 pub mod interface;
 pub mod render;
 
@@ -23,6 +24,9 @@ pub enum Command {
     Render(render::RenderArgs),
     /// Render several scenes in several modes into one labelled sheet.
     ContactSheet(contact_sheet::ContactSheetArgs),
+    /// Generate a standard cut (round-brilliant, oval, princess, emerald)
+    /// or a GemCAD .asc design's stone as OBJ.
+    Cut(cut::CutArgs),
     /// Solve one interface: every outgoing wave for one incident wave.
     Interface(interface::InterfaceArgs),
 }
@@ -70,6 +74,7 @@ pub fn main() -> i32 {
     let result = match cli.command {
         Command::Render(args) => render::run(&args),
         Command::ContactSheet(args) => contact_sheet::run(&args),
+        Command::Cut(args) => cut::run(&args),
         Command::Interface(args) => interface::run(&args, &mut std::io::stdout().lock()),
     };
     match result {

@@ -207,39 +207,6 @@ mod backend {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn integer_outputs_clamp_and_zero_nan() {
-        let cases = [
-            (f32::NAN, 0.0),
-            (f32::INFINITY, 1.0),
-            (f32::NEG_INFINITY, 0.0),
-            (-0.5, 0.0),
-            (1.5, 1.0),
-            (0.25, 0.25),
-        ];
-        for (v, want) in cases {
-            assert_eq!(to_unit(v), want, "{v}");
-        }
-    }
-
-    #[test]
-    fn temporaries_sit_beside_the_destination_with_its_extension() {
-        let a = TempFile::beside(Path::new("out/dir/render.png")).unwrap();
-        let b = TempFile::beside(Path::new("out/dir/render.png")).unwrap();
-        assert_ne!(a.path, b.path);
-        assert_eq!(a.path.parent(), Some(Path::new("out/dir")));
-        assert_eq!(a.path.extension().unwrap(), "png");
-        let name = a.path.file_name().unwrap().to_string_lossy().into_owned();
-        assert!(name.starts_with(".render.png.tmp-"), "{name}");
-        assert!(TempFile::beside(Path::new("render")).is_err());
-        assert!(TempFile::beside(Path::new("/")).is_err());
-    }
-}
-
 /// Draws `text` into `image` with its baseline starting at pixel (x, y),
 /// `size` pixels high, in the colour `colour` (one value per channel), using
 /// `font` (a font name such as "DejaVuSans", found through the system's font
@@ -273,5 +240,38 @@ pub fn draw_text(
         Err(ImageError::Invalid(
             "drawing text needs the image backend (this build has none)".into(),
         ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn integer_outputs_clamp_and_zero_nan() {
+        let cases = [
+            (f32::NAN, 0.0),
+            (f32::INFINITY, 1.0),
+            (f32::NEG_INFINITY, 0.0),
+            (-0.5, 0.0),
+            (1.5, 1.0),
+            (0.25, 0.25),
+        ];
+        for (v, want) in cases {
+            assert_eq!(to_unit(v), want, "{v}");
+        }
+    }
+
+    #[test]
+    fn temporaries_sit_beside_the_destination_with_its_extension() {
+        let a = TempFile::beside(Path::new("out/dir/render.png")).unwrap();
+        let b = TempFile::beside(Path::new("out/dir/render.png")).unwrap();
+        assert_ne!(a.path, b.path);
+        assert_eq!(a.path.parent(), Some(Path::new("out/dir")));
+        assert_eq!(a.path.extension().unwrap(), "png");
+        let name = a.path.file_name().unwrap().to_string_lossy().into_owned();
+        assert!(name.starts_with(".render.png.tmp-"), "{name}");
+        assert!(TempFile::beside(Path::new("render")).is_err());
+        assert!(TempFile::beside(Path::new("/")).is_err());
     }
 }

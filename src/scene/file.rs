@@ -24,7 +24,8 @@
 //! n_e = 1.4864
 //!
 //! [[object]]
-//! mesh = "gems/trichecker12.obj"   # relative to this file, or "builtin:NAME"
+//! mesh = "gems/trichecker12.obj"   # .obj or .asc, relative to this file, or "builtin:NAME"
+//! # or: cut = { name = "round-brilliant", table = 0.53, crown_angle = 34.5, pavilion_angle = 40.75 }
 //! medium = "calcite"               # built-in, iso:N, uniaxial:NO:NE, or a [media] name
 //! optic_axis = [0.0, 1.0, 1.0]     # object space; crystals only (default +z)
 //! transform = { scale = 1.0, rotate = [0.0, 0.0, 30.0], translate = [0.0, 0.0, 0.0] }
@@ -150,7 +151,11 @@ pub struct MediumDef {
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
 pub struct ObjectDef {
-    pub mesh: Spanned<String>,
+    /// An OBJ or GemCAD .asc file (relative to the scene file), or
+    /// `builtin:NAME`.
+    pub mesh: Option<Spanned<String>>,
+    /// A generated standard cut: `{ name = "round-brilliant", table = 0.53, … }`.
+    pub cut: Option<Spanned<toml::Value>>,
     pub medium: Spanned<String>,
     pub optic_axis: Option<Spanned<V3>>,
     pub transform: Option<Spanned<TransformDef>>,

@@ -6,7 +6,7 @@ pub mod builtin;
 pub mod file;
 pub mod light;
 
-use crate::geometry::{parse_obj, Mesh};
+use crate::geometry::Mesh;
 use crate::material::{Dispersion, Material};
 use crate::render::camera::Camera;
 use crate::spectrum::WavelengthSet;
@@ -14,7 +14,7 @@ use file::{DispersionDef, DispersionModel, ScaleDef, SceneFile, TransformDef, Wa
 use glam::{DAffine3, DMat3, DVec3};
 pub use light::{Light, Polarization, Texture};
 use std::fmt;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use toml::Spanned;
 
 /// A scene error, with where it is.
@@ -242,17 +242,18 @@ impl Scene {
                 }
                 (None, false) => material,
             };
-            let mesh = load_mesh(&loc, &o.mesh, base, &field("mesh"))?;
-            mesh.check_closed_and_oriented().or_else(|e| {
-                loc.err(
-                    o.mesh.span(),
-                    field("mesh"),
-                    format!("{}: {e}", o.mesh.get_ref()),
-                )
-            })?;
+            let (mesh, name) = match (&o.mesh, &o.cut) {
+                (Some(m), None) => (load_mesh(&loc, m, base, &field("mesh"))?, m.get_ref().clone()),
+                (None, Some(c)) => {
+                    let mesh = crate::geometry::cuts::mesh_from_spec(c.get_ref()).or_else(|e| loc.err(c.span(), field("cut"), e))?;
+                    let name = c.get_ref().get("name").and_then(|v| v.as_str()).unwrap_or("cut").to_string();
+                    (mesh, name)
+                }
+                _ => return loc.err(o_span.clone(), format!("object[{i}]"), "give exactly one of `mesh` (a file or builtin:NAME) and `cut` (a standard cut)"),
+            };
             let mesh = mesh.transformed(&transform);
             objects.push(Object {
-                name: o.mesh.get_ref().clone(),
+                name,
                 mesh,
                 material,
             });
@@ -475,14 +476,18 @@ fn transform(
     ))
 }
 
+/// Loads and validates a mesh file (OBJ or GemCAD .asc) or a built-in mesh:
+/// it must be closed and consistently oriented; concave or slightly warped
+/// meshes load (their warnings are printed).
 fn load_mesh(
     loc: &Locator<'_>,
     mesh: &Spanned<String>,
     base: &Path,
     field: &str,
 ) -> Result<Mesh, SceneError> {
+    use crate::geometry::validate::{load_mesh as load_file, mesh_from_bytes_as, MeshFormat};
     let name = mesh.get_ref();
-    if let Some(builtin) = name.strip_prefix("builtin:") {
+    let loaded = if let Some(builtin) = name.strip_prefix("builtin:") {
         let text = builtin::mesh(builtin).map_or_else(
             || {
                 loc.err(
@@ -496,16 +501,13 @@ fn load_mesh(
             },
             Ok,
         )?;
-        return parse_obj(text, name).or_else(|e| loc.err(mesh.span(), field, e.to_string()));
+        mesh_from_bytes_as(text.as_bytes(), name, MeshFormat::Obj)
+    } else {
+        load_file(&base.join(name))
+    };
+    let loaded = loaded.or_else(|e| loc.err(mesh.span(), field, e))?;
+    for w in &loaded.warnings {
+        eprintln!("spar: warning: {w}");
     }
-    let path: PathBuf = base.join(name);
-    let text = std::fs::read_to_string(&path).or_else(|e| {
-        loc.err(
-            mesh.span(),
-            field,
-            format!("cannot read {}: {e}", path.display()),
-        )
-    })?;
-    parse_obj(&text, &path.display().to_string())
-        .or_else(|e| loc.err(mesh.span(), field, e.to_string()))
+    Ok(loaded.mesh)
 }
