@@ -252,6 +252,10 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             args.wavelength
         )));
     }
+    if args.mode.contains(&OutputMode::Color) {
+        crate::spectrum::Observer::new(&scene.settings.wavelengths)
+            .map_err(|e| input(format!("wavelengths for the color mode: {e}")))?;
+    }
     let mut modes = args.mode.clone();
     modes.dedup();
     if modes.is_empty() {
