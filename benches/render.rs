@@ -1,0 +1,53 @@
+//! Render benchmark: time and traced rays per second for each of the seed
+//! paper's four scenes, in colour (21 wavelengths, the scenes' own depth
+//! and pruning), at 256×256 and 512×512, on all cores. Prints a table.
+//!
+//!     cargo bench --bench render
+//!     SPAR_BENCH_SIZES=256 SPAR_BENCH_ACCEL=embree cargo bench --bench render
+//!
+//! Each row is one render (these take seconds to minutes; the spread of
+//! repeated runs on a quiet machine is a few percent, on a shared one much
+//! more: rerun before quoting).
+
+use spar::cli::render::render_film;
+use spar::render::output::OutputMode;
+use spar::scene::Scene;
+use std::path::Path;
+
+fn main() {
+    let sizes: Vec<u32> = std::env::var("SPAR_BENCH_SIZES")
+        .unwrap_or_else(|_| "256,512".into())
+        .split(',')
+        .filter_map(|s| s.trim().parse().ok())
+        .collect();
+    let scenes = [
+        "glass-unpolarized",
+        "glass-polarized",
+        "calcite-unpolarized",
+        "calcite-polarized",
+    ];
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    println!("| scene | size | spp | depth | prune | time (s) | rays | M rays/s | nodes | nodes/camera ray |");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    for size in &sizes {
+        for name in scenes {
+            let mut scene =
+                Scene::load(&dir.join(format!("{name}.toml"))).expect("seed scene loads");
+            scene.camera = scene.camera.clone().with_resolution(*size, *size);
+            let done = render_film(&scene, &[OutputMode::Color], 580.0, 0, false).expect("render");
+            let secs = done.render_time.as_secs_f64();
+            let camera_rays =
+                (*size as u64).pow(2) * scene.samples as u64 * done.options.lambdas.len() as u64;
+            println!(
+                "| {name} | {size}² | {} | {} | {:e} | {secs:.2} | {} | {:.2} | {} | {:.1} |",
+                scene.samples,
+                scene.settings.max_depth,
+                scene.settings.prune,
+                done.stats.rays,
+                done.stats.rays as f64 / secs / 1e6,
+                done.stats.nodes,
+                done.stats.nodes as f64 / camera_rays as f64
+            );
+        }
+    }
+}
