@@ -9,6 +9,7 @@
 
 use glam::DVec3;
 
+pub mod bvh;
 #[cfg(feature = "native")]
 pub mod embree;
 

@@ -1,0 +1,177 @@
+//! The pure-Rust backend of [`Intersector`]: a 4-wide SAH BVH over f32
+//! triangle packets, built in parallel, traced one ray at a time.
+//!
+//! DESIGN-NOTES-PLACEHOLDER
+//!
+//! Pieces, each in its own module:
+//! - [`lanes`]: four f32 lanes with element-wise operators (autovectorized).
+//! - [`sah`]: the binary tree by binned SAH (Wald 2007), in parallel.
+//! - [`wide`]: the 4-wide node layout and the collapse from binary (Wald,
+//!   Benthin & Boulos 2008).
+//! - [`ray`]: the f64 ray turned into f32 traversal constants.
+//! - [`triangle`]: four-triangle packets and the watertight test (Woop,
+//!   Benthin & Wald 2013); the winning hit recomputed in f64 (Möller &
+//!   Trumbore 1997).
+//! - [`traverse`]: the closest-hit traversal with the robust slab test
+//!   (Ize 2013).
+
+mod lanes;
+mod ray;
+mod sah;
+mod traverse;
+mod triangle;
+mod wide;
+
+use super::{validate_meshes, AccelError, Hit, Intersector, Ray, TriangleMesh};
+use ray::PreparedRay;
+use sah::{Aabb, Primitives, SahConfig};
+pub use traverse::TraversalCounts;
+use wide::{ChildRef, WideBvh};
+
+/// A BVH over a set of triangle meshes, immutable once built and safe to
+/// trace from many threads.
+pub struct RustBvh {
+    bvh: WideBvh,
+    triangles: usize,
+}
+
+/// Sizes of a built BVH, for logs and benchmarks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BvhStats {
+    pub triangles: usize,
+    pub nodes: usize,
+    pub packets: usize,
+    /// Bytes of nodes and packets.
+    pub bytes: usize,
+}
+
+impl RustBvh {
+    /// Builds the BVH on `threads` threads (0: rayon's current pool, which is
+    /// all cores unless the caller configured it).
+    pub fn build(meshes: &[TriangleMesh<'_>], threads: usize) -> Result<RustBvh, AccelError> {
+        validate_meshes(meshes)?;
+        let total: usize = meshes.iter().map(|m| m.triangles.len()).sum();
+        // Packets are at most ⌈n/4⌉ plus one partly filled per leaf; a leaf
+        // has at least one triangle, so n packets always suffice.
+        if total > ChildRef::MAX_TOTAL_PACKETS || total > u32::MAX as usize {
+            return Err(AccelError::Backend {
+                backend: "rust",
+                message: format!(
+                    "{total} triangles: at most {} are supported",
+                    ChildRef::MAX_TOTAL_PACKETS
+                ),
+            });
+        }
+        let work = || build_in_current_pool(meshes, total, &SahConfig::default());
+        if threads == 0 {
+            Ok(work())
+        } else {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .map_err(|e| AccelError::Backend {
+                    backend: "rust",
+                    message: format!("cannot start {threads} build threads: {e}"),
+                })?;
+            Ok(pool.install(work))
+        }
+    }
+
+    /// Node, packet and byte counts.
+    pub fn stats(&self) -> BvhStats {
+        BvhStats {
+            triangles: self.triangles,
+            nodes: self.bvh.nodes.len(),
+            packets: self.bvh.packets.len(),
+            bytes: std::mem::size_of_val(self.bvh.nodes.as_slice())
+                + std::mem::size_of_val(self.bvh.packets.as_slice()),
+        }
+    }
+}
+
+#[doc(hidden)]
+pub fn build_tuned(
+    meshes: &[TriangleMesh<'_>],
+    bins: usize,
+    trav: f64,
+    max_leaf: usize,
+) -> RustBvh {
+    let total: usize = meshes.iter().map(|m| m.triangles.len()).sum();
+    build_in_current_pool(
+        meshes,
+        total,
+        &SahConfig {
+            bins,
+            traversal_cost: trav,
+            max_leaf,
+        },
+    )
+}
+
+fn build_in_current_pool(meshes: &[TriangleMesh<'_>], total: usize, config: &SahConfig) -> RustBvh {
+    use rayon::prelude::*;
+    let mut triangles = Vec::with_capacity(total);
+    for (geom, mesh) in meshes.iter().enumerate() {
+        triangles.par_extend(mesh.triangles.par_iter().enumerate().map(|(prim, t)| {
+            let v = t.map(|i| mesh.vertices[i as usize]);
+            (geom as u32, prim as u32, v)
+        }));
+    }
+    let boxes: Vec<Aabb> = triangles
+        .par_iter()
+        .map(|(_, _, v)| Aabb::of_points(v))
+        .collect();
+    let centroids: Vec<[f32; 3]> = boxes.par_iter().map(Aabb::center).collect();
+    let prims = Primitives {
+        boxes: &boxes,
+        centroids: &centroids,
+    };
+    let (root, order) = sah::build(&prims, config);
+    let bvh = wide::collapse(&root, &order, &triangles);
+    RustBvh {
+        bvh,
+        triangles: total,
+    }
+}
+
+impl RustBvh {
+    /// [`Intersector::intersect`], also counting the nodes and packets the
+    /// traversal tested (for benchmarks and tuning; a little slower).
+    pub fn intersect_counting(&self, ray: &Ray) -> (Option<Hit>, TraversalCounts) {
+        let mut counts = TraversalCounts::default();
+        let hit = self.intersect_with(ray, &mut counts);
+        (hit, counts)
+    }
+
+    #[inline(always)]
+    fn intersect_with<C: traverse::Counter>(&self, ray: &Ray, counter: &mut C) -> Option<Hit> {
+        let prepared = PreparedRay::new(ray)?;
+        let (p, lane_hit) = traverse::closest_hit(&self.bvh, &prepared, counter)?;
+        let packet = &self.bvh.packets[p];
+        let lane = lane_hit.lane;
+        let t32 = lane_hit.t as f64 * prepared.t_to_caller;
+        let (t, u, v, ng) = packet.refine(lane, ray, t32);
+        // The f64 t may differ from the f32 one that passed the interval
+        // test by rounding: keep the contract t ∈ [tmin, tmax].
+        let t = t.max(ray.tmin.max(0.0)).min(ray.tmax);
+        Some(Hit {
+            t,
+            geom: packet.geom[lane],
+            prim: packet.prim[lane],
+            u,
+            v,
+            ng,
+        })
+    }
+}
+
+impl Intersector for RustBvh {
+    #[inline]
+    fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        self.intersect_with(ray, &mut ())
+    }
+
+    fn name(&self) -> &'static str {
+        "rust"
+    }
+}
