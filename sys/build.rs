@@ -21,9 +21,11 @@
 use std::env;
 use std::path::{Path, PathBuf};
 
-const DEBIAN_HINT_EMBREE: &str = "install Embree 3 (Debian/Ubuntu: `apt-get install libembree-dev`) \
+const DEBIAN_HINT_EMBREE: &str =
+    "install Embree 3 (Debian/Ubuntu: `apt-get install libembree-dev`) \
      or set EMBREE_DIR to a prefix containing include/embree3/rtcore.h";
-const DEBIAN_HINT_OIIO: &str = "install OpenImageIO (Debian/Ubuntu: `apt-get install libopenimageio-dev`) \
+const DEBIAN_HINT_OIIO: &str =
+    "install OpenImageIO (Debian/Ubuntu: `apt-get install libopenimageio-dev`) \
      or set OIIO_DIR to a prefix containing include/OpenImageIO/imageio.h";
 
 /// Where a native library's headers and shared objects are.
