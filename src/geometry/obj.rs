@@ -66,7 +66,7 @@ pub fn parse_obj(text: &str, file: &str) -> Result<Mesh, ObjError> {
             .positions
             .chunks_exact(3)
             .map(|p| {
-                let p = DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
+                let p = DVec3::new(p[0], p[1], p[2]);
                 let key = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
                 *index_of.entry(key).or_insert_with(|| {
                     positions.push(p);
