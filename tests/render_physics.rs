@@ -185,9 +185,10 @@ radiance = 1.0
     let p2 = peak(Some(p1));
     let centroid = |p: usize| -> f64 {
         let (mut m, mut w) = (0.0, 0.0);
-        for y in p.saturating_sub(4)..(p + 5).min(120) {
-            m += y as f64 * profile[y];
-            w += profile[y];
+        let lo = p.saturating_sub(4);
+        for (y, v) in profile.iter().enumerate().take((p + 5).min(120)).skip(lo) {
+            m += y as f64 * v;
+            w += v;
         }
         m / w
     };
