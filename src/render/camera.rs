@@ -2,8 +2,8 @@
 //!
 //! Stokes frame (Mitsuba 3's `stokes` integrator convention): for a camera
 //! ray of direction d, the light arriving travels along −d; the receiver
-//! looks back along d at the source. x is image right (projected to be
-//! transverse to d), y = x × d is image up, and (x, y, −d) is right-handed.
+//! looks back along d at the source. x = unit(d × camera up) is image
+//! right, y = x × d is image up, and (x, y, −d) is right-handed.
 //! S1 > 0 is horizontal, S2 > 0 is at +45° from image right toward image up.
 
 use glam::DVec3;
@@ -76,9 +76,11 @@ impl Camera {
     }
 
     /// The film's polarization frame (x, y) for a ray of unit direction `d`:
-    /// x image right made transverse to d, y = x × d image up.
+    /// x = unit(d × camera up) (image right), y = x × d (image up), as
+    /// Mitsuba 3's `stokes` integrator does (`src/integrators/stokes.cpp`);
+    /// checked against Mitsuba by `tools/mitsuba_crosscheck.py`.
     pub fn stokes_frame(&self, d: DVec3) -> (DVec3, DVec3) {
-        let x = (self.right - self.right.dot(d) * d).normalize();
+        let x = d.cross(self.up).normalize();
         (x, x.cross(d))
     }
 }

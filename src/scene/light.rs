@@ -23,9 +23,9 @@ pub enum PlateWave {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Polarization {
     Unpolarized,
-    /// Behind an ideal linear polarizer with this transmission axis (a unit
+    /// Behind an ideal sheet polarizer with this transmission axis t (a unit
     /// vector in the light's plane): half the radiance, fully polarized
-    /// along the axis projected transverse to each ray.
+    /// along k × (N × t) for a ray along k (t itself at normal incidence).
     Linear {
         axis: DVec3,
     },
@@ -171,7 +171,11 @@ impl Light {
         let l = self.spectral_radiance(s, t, lambda_nm);
         let field = match self.polarization {
             Polarization::Unpolarized => return Coherence::unpolarized(l),
-            Polarization::Linear { axis } => axis,
+            // A sheet (dichroic or wire-grid) polarizer absorbs the field
+            // along its absorbing axis a = N × t in its plane and passes
+            // E ∥ k × a (Korger et al. 2013; Mitsuba 3's `polarizer`); at
+            // normal incidence that is the transmission axis t itself.
+            Polarization::Linear { axis } => k.cross(self.normal.cross(axis)),
             Polarization::CalcitePlate { keep, axis } => {
                 // Ordinary wave: E ∥ k × c (optics.md §4); along the axis the
                 // two waves are degenerate: take the light's first edge.
