@@ -69,10 +69,12 @@
 //! ```
 
 use super::fresnel::{fresnel_from_normals, normal_component};
-use super::interface::{energy_factor, BoundarySystem, Interface, InterfaceError};
+use super::interface::{energy_factor, tangential_real, BoundarySystem, Interface, InterfaceError};
 use super::jones::Jones;
 use super::medium::Medium;
-use super::modes::{k_from_ray, Eigenwave, Mode, Side, TangentFrame, Travel, WaveKind};
+use super::modes::{
+    evanescent_fields, k_from_ray, Eigenwave, Mode, RealWave, Side, TangentFrame, Travel, WaveKind,
+};
 use glam::DVec3;
 use num_complex::Complex64;
 
@@ -116,6 +118,7 @@ pub struct Feeders {
     /// vector, its `s` the `s` of every isotropic basis).
     pub frame: TangentFrame,
     pub target: WaveBasis,
+    /// The first `len` entries; the others stay [`BLANK`].
     list: [Feeder; 4],
     len: usize,
 }
@@ -137,20 +140,13 @@ impl Feeders {
         self.len == 0
     }
 
+    /// No feeders yet, the target to be set by the query.
     #[inline]
-    fn empty(frame: &TangentFrame, target: WaveBasis) -> Feeders {
-        let blank = Feeder {
-            wave: target,
-            block: Jones {
-                rows: 0,
-                cols: 0,
-                m: [[ZERO; 2]; 2],
-            },
-        };
+    fn new(frame: &TangentFrame) -> Feeders {
         Feeders {
             frame: *frame,
-            target,
-            list: [blank; 4],
+            target: BLANK.wave,
+            list: [BLANK; 4],
             len: 0,
         }
     }
@@ -161,6 +157,22 @@ impl Feeders {
         self.len += 1;
     }
 }
+
+/// An unused entry (all bits zero, so filling a list with it is a memset).
+const BLANK: Feeder = Feeder {
+    wave: WaveBasis {
+        side: Side::Plus,
+        kind: WaveKind::Isotropic,
+        k: DVec3::ZERO,
+        ray: DVec3::ZERO,
+        basis: [DVec3::ZERO; 2],
+    },
+    block: Jones {
+        rows: 0,
+        cols: 0,
+        m: [[ZERO; 2]; 2],
+    },
+};
 
 impl Interface {
     /// The backward query for the outgoing wave of `kind` on `side` whose
@@ -199,6 +211,7 @@ impl Interface {
     /// no feeders when that wave carries no normal flux: it grazes the
     /// interface, or `t` lies beyond its sheet (evanescent; from a ray
     /// direction this happens only by rounding at grazing).
+    #[inline]
     pub fn feeders_tangential(
         &self,
         side: Side,
@@ -212,6 +225,7 @@ impl Interface {
     }
 
     /// The backward query in a given tangent frame.
+    #[inline]
     pub fn feeders_in(
         &self,
         side: Side,
@@ -224,97 +238,208 @@ impl Interface {
                 side,
             });
         }
+        // The result (nearly a kilobyte) is filled in place by a worker
+        // that is not inlined, while this wrapper is: the caller's own
+        // variable can then be the one filled, without a copy.
+        let mut result = Feeders::new(frame);
+        self.fill(frame, side, kind, &mut result)?;
+        Ok(result)
+    }
+
+    #[inline(never)]
+    fn fill(
+        &self,
+        frame: &TangentFrame,
+        side: Side,
+        kind: WaveKind,
+        result: &mut Feeders,
+    ) -> Result<(), InterfaceError> {
         match (*self.medium(side), *self.medium(side.opposite())) {
             (Medium::Isotropic { n: n_w }, Medium::Isotropic { n: n_x }) => {
-                Ok(isotropic_pair(frame, side, n_w, n_x))
+                isotropic_pair(frame, side, n_w, n_x, result);
+                Ok(())
             }
-            _ => self.general(frame, side, kind),
+            _ => self.general(frame, side, kind, result),
         }
     }
 
+    #[inline]
     fn general(
         &self,
         frame: &TangentFrame,
         side: Side,
         kind: WaveKind,
-    ) -> Result<Feeders, InterfaceError> {
+        result: &mut Feeders,
+    ) -> Result<(), InterfaceError> {
         let sheets = self.sheets(frame);
-        let out = self.outgoing_on(frame, &sheets);
+        // Columns of the boundary matrix from the four outgoing waves; the
+        // propagating ones kept (the target's rows need their flux).
+        let mut system = BoundarySystem::empty();
+        let mut out: [Option<RealWave>; 4] = [None; 4];
+        for out_side in [Side::Plus, Side::Minus] {
+            let medium = self.medium(out_side);
+            let si = out_side.index();
+            let dir = out_side.sign();
+            match *medium {
+                Medium::Isotropic { n } => {
+                    let sheet = &sheets[si][0];
+                    if sheet.propagates() {
+                        let pair = RealWave::isotropic_pair(n, frame, sheet, dir);
+                        for (i, w) in pair.into_iter().enumerate() {
+                            system.set_real(2 * si + i, out_side, tangential_real(frame, w.e, w.h));
+                            out[2 * si + i] = Some(w);
+                        }
+                        continue;
+                    }
+                }
+                Medium::Uniaxial { .. } => {}
+            }
+            for (i, mode) in Mode::pair_of(medium).into_iter().enumerate() {
+                let sheet = &sheets[si][i];
+                if sheet.propagates() {
+                    let w = RealWave::on_sheet(medium, frame, sheet, mode, dir);
+                    system.set_real(2 * si + i, out_side, tangential_real(frame, w.e, w.h));
+                    out[2 * si + i] = Some(w);
+                } else {
+                    let (_, _, e, h) = evanescent_fields(medium, frame, sheet, mode, dir);
+                    system.set_complex(2 * si + i, out_side, frame, e, h);
+                }
+            }
+        }
         // Target rows: indices into `out` of w's modes.
         let base = 2 * side.index();
         let (rows, first) = match kind {
             WaveKind::Isotropic | WaveKind::Ordinary => (kind.mode_count(), base),
             WaveKind::Extraordinary => (1, base + 1),
         };
-        let w0 = &out[first];
-        let target = basis_of(
-            w0,
-            if rows == 2 {
-                Some(&out[first + 1])
-            } else {
-                None
-            },
+        let w_medium = self.medium(side);
+        let (w0, w_flux) = match out[first] {
+            Some(w) => {
+                let f1 = if rows == 2 {
+                    out[first + 1].map_or(0.0, |w| w.flux())
+                } else {
+                    0.0
+                };
+                (w, [w.flux(), f1])
+            }
+            None => {
+                // w is evanescent (t beyond its sheet, by rounding from a
+                // ray direction): nothing feeds it. Report it as the forward
+                // solver sees it.
+                let wave = |i: usize| {
+                    let mode = Mode::pair_of(w_medium)[i];
+                    let sheet = &sheets[side.index()][i];
+                    Eigenwave::on_sheet(
+                        w_medium,
+                        frame,
+                        sheet,
+                        side,
+                        Travel::Outgoing,
+                        mode,
+                        side.sign(),
+                    )
+                };
+                let w0 = wave(first - base);
+                let w1 = (rows == 2).then(|| wave(1));
+                result.target = basis_of(&w0, w1.as_ref(), kind);
+                return Ok(());
+            }
+        };
+        result.target = WaveBasis {
+            side,
             kind,
-        );
-        let mut result = Feeders::empty(frame, target);
-        if w0.evanescent || w0.flux == 0.0 {
-            return Ok(result);
+            k: w0.k,
+            ray: w0.ray(w_medium, kind),
+            basis: [
+                w0.e,
+                if rows == 2 {
+                    out[first + 1].map_or(DVec3::ZERO, |w| w.e)
+                } else {
+                    DVec3::ZERO
+                },
+            ],
+        };
+        if w_flux[0] == 0.0 {
+            return Ok(());
         }
-        let system = BoundarySystem::new(frame, &out).ok_or(InterfaceError::Singular)?;
+        if !system.factor() {
+            return Err(InterfaceError::Singular);
+        }
+        // The block of one incident wave `c` of the candidate: ã of each of
+        // w's modes.
+        let block_column = |m: &mut [[Complex64; 2]; 2], c: usize, w: &RealWave, sgn: f64| {
+            let v = tangential_real(frame, w.e, w.h);
+            let a = system.solve_real(v.map(|x| x * sgn));
+            let f_in = w.flux();
+            for (r, row) in m.iter_mut().take(rows).enumerate() {
+                row[c] = a[first + r] * energy_factor(w_flux[r], f_in);
+            }
+        };
         for cand_side in [side, side.opposite()] {
             let medium = self.medium(cand_side);
-            for &ck in WaveKind::all_of(medium) {
-                let modes: &[_] = match ck {
-                    WaveKind::Isotropic => &[Mode::S, Mode::P],
-                    WaveKind::Ordinary => &[Mode::O],
-                    WaveKind::Extraordinary => &[Mode::E],
-                };
-                let mut waves = [None; 2];
-                for (i, &m) in modes.iter().enumerate() {
+            let si = cand_side.index();
+            // Incoming: energy toward the interface, −σ; on the right-hand
+            // side of the system with the sign −σ (see `BoundarySystem`).
+            let sigma = cand_side.sign();
+            match *medium {
+                Medium::Isotropic { n } => {
                     // The incoming wave shares its sheet with the outgoing
                     // one of the same mode; it exists only if it propagates.
-                    let idx = if ck == WaveKind::Extraordinary { 1 } else { i };
-                    let sheet = &sheets[cand_side.index()][idx];
-                    if sheet.propagates() {
-                        let dir = -cand_side.sign();
-                        waves[i] = Some(Eigenwave::on_sheet(
-                            medium,
-                            frame,
-                            sheet,
-                            cand_side,
-                            Travel::Incoming,
-                            m,
-                            dir,
-                        ));
+                    let sheet = &sheets[si][0];
+                    if !sheet.propagates() {
+                        continue;
+                    }
+                    let pair = RealWave::isotropic_pair(n, frame, sheet, -sigma);
+                    if pair[0].flux() == 0.0 {
+                        continue;
+                    }
+                    let mut m = [[ZERO; 2]; 2];
+                    block_column(&mut m, 0, &pair[0], -sigma);
+                    block_column(&mut m, 1, &pair[1], -sigma);
+                    result.push(Feeder {
+                        wave: WaveBasis {
+                            side: cand_side,
+                            kind: WaveKind::Isotropic,
+                            k: pair[0].k,
+                            ray: pair[0].ray(medium, WaveKind::Isotropic),
+                            basis: [pair[0].e, pair[1].e],
+                        },
+                        block: Jones { rows, cols: 2, m },
+                    });
+                }
+                Medium::Uniaxial { .. } => {
+                    for (i, (mode, ck)) in [
+                        (Mode::O, WaveKind::Ordinary),
+                        (Mode::E, WaveKind::Extraordinary),
+                    ]
+                    .into_iter()
+                    .enumerate()
+                    {
+                        let sheet = &sheets[si][i];
+                        if !sheet.propagates() {
+                            continue;
+                        }
+                        let w = RealWave::on_sheet(medium, frame, sheet, mode, -sigma);
+                        if w.flux() == 0.0 {
+                            continue;
+                        }
+                        let mut m = [[ZERO; 2]; 2];
+                        block_column(&mut m, 0, &w, -sigma);
+                        result.push(Feeder {
+                            wave: WaveBasis {
+                                side: cand_side,
+                                kind: ck,
+                                k: w.k,
+                                ray: w.ray(medium, ck),
+                                basis: [w.e, DVec3::ZERO],
+                            },
+                            block: Jones { rows, cols: 1, m },
+                        });
                     }
                 }
-                let c0 = match waves[0] {
-                    Some(w) if w.flux != 0.0 => w,
-                    _ => continue,
-                };
-                let mut m = [[ZERO; 2]; 2];
-                for (c, cw) in waves.iter().take(modes.len()).enumerate() {
-                    let cw = cw
-                        .as_ref()
-                        .expect("both modes of an isotropic wave propagate together");
-                    let a = system.solve(frame, cw);
-                    for (r, row) in m.iter_mut().take(rows).enumerate() {
-                        let j = first + r;
-                        row[c] = a[j] * energy_factor(out[j].flux, cw.flux);
-                    }
-                }
-                let wave = basis_of(&c0, waves[1].as_ref().filter(|_| modes.len() == 2), ck);
-                result.push(Feeder {
-                    wave,
-                    block: Jones {
-                        rows,
-                        cols: modes.len(),
-                        m,
-                    },
-                });
             }
         }
-        Ok(result)
+        Ok(())
     }
 }
 
@@ -338,7 +463,7 @@ fn basis_of(w0: &Eigenwave, w1: Option<&Eigenwave>, kind: WaveKind) -> WaveBasis
 /// Two isotropic media: the closed forms (optics.md §4), the target on
 /// `side` in index `n_w`, the other side of index `n_x`.
 #[inline]
-fn isotropic_pair(frame: &TangentFrame, side: Side, n_w: f64, n_x: f64) -> Feeders {
+fn isotropic_pair(frame: &TangentFrame, side: Side, n_w: f64, n_x: f64, result: &mut Feeders) {
     let sigma = side.sign();
     let n_dir = frame.normal;
     let s = frame.s;
@@ -352,11 +477,10 @@ fn isotropic_pair(frame: &TangentFrame, side: Side, n_w: f64, n_x: f64) -> Feede
         ray: k / n,
         basis: [s, k.cross(s) / n],
     };
-    let target = wave(side, k_w, n_w);
-    let mut result = Feeders::empty(frame, target);
+    result.target = wave(side, k_w, n_w);
     if !(dw > 0.0) {
         // w grazes the interface: no normal flux to feed.
-        return result;
+        return;
     }
     let q_x = normal_component(frame.n2_minus_tt(n_x));
     let dx = q_x.re;
@@ -379,5 +503,4 @@ fn isotropic_pair(frame: &TangentFrame, side: Side, n_w: f64, n_x: f64) -> Feede
             block: diag(f.ts_energy, f.tp_energy),
         });
     }
-    result
 }

@@ -325,8 +325,26 @@ impl Interface {
         mode: Mode,
         frame: &TangentFrame,
     ) -> Result<Scattering, InterfaceError> {
-        let incident = self.incident_wave_in(side, mode, frame)?;
-        let out = self.outgoing_waves(frame);
+        let medium = self.medium(side);
+        if !mode.exists_in(medium) {
+            return Err(InterfaceError::ModeNotInMedium { mode, side });
+        }
+        // The incident wave lies on the sheet its outgoing namesake uses.
+        let sheets = self.sheets(frame);
+        let sheet = &sheets[side.index()][mode_index(mode)];
+        if !sheet.propagates() {
+            return Err(InterfaceError::NoSuchWave);
+        }
+        let incident = Eigenwave::on_sheet(
+            medium,
+            frame,
+            sheet,
+            side,
+            Travel::Incoming,
+            mode,
+            -side.sign(),
+        );
+        let out = self.outgoing_on(frame, &sheets);
         let system = BoundarySystem::new(frame, &out).ok_or(InterfaceError::Singular)?;
         let a = system.solve(frame, &incident);
         Ok(Scattering::assemble(incident, out, a))
@@ -379,37 +397,107 @@ impl Interface {
     }
 }
 
+/// Position of `mode` in its medium's pair (`[s, p]` or `[o, e]`).
+#[inline]
+pub(crate) fn mode_index(mode: Mode) -> usize {
+    match mode {
+        Mode::S | Mode::O => 0,
+        Mode::P | Mode::E => 1,
+    }
+}
+
 /// The boundary-condition matrix for one tangential component, factored
 /// once: columns are the outgoing waves `[+₀, +₁, −₀, −₁]`, rows the
 /// tangential components `(E·s, E·u, H·s, H·u)`, side − columns negated so
 /// that `Σ₊ − Σ₋ = −(incident)` expresses continuity.
+///
+/// Filled column by column ([`BoundarySystem::set_real`],
+/// [`BoundarySystem::set_complex`]) and factored in place. While every
+/// outgoing wave propagates the matrix is real and is factored in real
+/// arithmetic, with bit for bit the results of the complex factorization
+/// (see [`Lu4`]).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct BoundarySystem {
     lu: Lu4,
+    /// Every column is real.
+    real: bool,
 }
 
+/// Tangential components `(E·s, E·u, H·s, H·u)` of complex fields.
 #[inline]
-fn tangential(frame: &TangentFrame, w: &Eigenwave) -> [Complex64; 4] {
+fn tangential(frame: &TangentFrame, e: CVec3, h: CVec3) -> [Complex64; 4] {
     [
-        w.e.dot_real(frame.s),
-        w.e.dot_real(frame.u),
-        w.h.dot_real(frame.s),
-        w.h.dot_real(frame.u),
+        e.dot_real(frame.s),
+        e.dot_real(frame.u),
+        h.dot_real(frame.s),
+        h.dot_real(frame.u),
     ]
 }
 
 impl BoundarySystem {
+    /// The system of the outgoing waves `out`, factored; `None` when it is
+    /// singular.
     #[inline]
     pub(crate) fn new(frame: &TangentFrame, out: &[Eigenwave; 4]) -> Option<BoundarySystem> {
-        let mut m = [[Complex64::new(0.0, 0.0); 4]; 4];
+        let mut system = BoundarySystem::empty();
         for (j, w) in out.iter().enumerate() {
-            let v = tangential(frame, w);
-            let sgn = w.side.sign();
-            for (row, x) in v.iter().enumerate() {
-                m[row][j] = x * sgn;
+            if w.evanescent {
+                system.set_complex(j, w.side, frame, w.e, w.h);
+            } else {
+                // A propagating wave's fields are real (zero imaginary
+                // parts).
+                system.set_real(j, w.side, tangential_real(frame, w.e.re, w.h.re));
             }
         }
-        Lu4::factor(m).map(|lu| BoundarySystem { lu })
+        system.factor().then_some(system)
+    }
+
+    /// A zero matrix to fill.
+    #[inline]
+    pub(crate) fn empty() -> BoundarySystem {
+        BoundarySystem {
+            lu: Lu4::zero(),
+            real: true,
+        }
+    }
+
+    /// Column `j` from the real tangential components `v` of a wave on
+    /// `side`.
+    #[inline]
+    pub(crate) fn set_real(&mut self, j: usize, side: Side, v: [f64; 4]) {
+        let sgn = side.sign();
+        for (row, x) in v.iter().enumerate() {
+            self.lu.set(row, j, x * sgn, 0.0);
+        }
+    }
+
+    /// Column `j` from the complex fields `E`, `H` of a wave on `side`.
+    #[inline]
+    pub(crate) fn set_complex(
+        &mut self,
+        j: usize,
+        side: Side,
+        frame: &TangentFrame,
+        e: CVec3,
+        h: CVec3,
+    ) {
+        let sgn = side.sign();
+        let v = tangential(frame, e, h);
+        for (row, x) in v.iter().enumerate() {
+            self.lu.set(row, j, x.re * sgn, x.im * sgn);
+        }
+        self.real = false;
+    }
+
+    /// Factor the filled matrix in place (in real arithmetic when it is
+    /// real); false when it is singular.
+    #[inline]
+    pub(crate) fn factor(&mut self) -> bool {
+        if self.real {
+            self.lu.factor_real_in_place()
+        } else {
+            self.lu.factor_in_place()
+        }
     }
 
     /// Amplitudes `[+₀, +₁, −₀, −₁]` of the outgoing waves for an incident
@@ -418,11 +506,46 @@ impl BoundarySystem {
     pub(crate) fn solve(&self, frame: &TangentFrame, incident: &Eigenwave) -> [Complex64; 4] {
         // Incident on side σ: (+) fields − (−) fields = 0 with the incident
         // wave on the σ side moves to the right as −σ v_i.
-        let v = tangential(frame, incident);
         let sgn = -incident.side.sign();
-        self.lu
-            .solve([v[0] * sgn, v[1] * sgn, v[2] * sgn, v[3] * sgn])
+        if incident.evanescent {
+            // Not an incident wave the solver builds (they propagate), but
+            // solvable all the same.
+            let b = tangential(frame, incident.e, incident.h).map(|x| x * sgn);
+            let (b_re, b_im) = (b.map(|z| z.re), b.map(|z| z.im));
+            let (xr, xi) = if self.real {
+                (self.lu.solve_real(b_re), self.lu.solve_real(b_im))
+            } else {
+                self.lu.solve_parts(b_re, b_im)
+            };
+            [0, 1, 2, 3].map(|i| Complex64::new(xr[i], xi[i]))
+        } else {
+            let v = tangential_real(frame, incident.e.re, incident.h.re);
+            self.solve_real(v.map(|x| x * sgn))
+        }
     }
+
+    /// Amplitudes for the real right-hand side `b` (a propagating incident
+    /// wave's tangential components times `−σ`).
+    #[inline]
+    pub(crate) fn solve_real(&self, b: [f64; 4]) -> [Complex64; 4] {
+        if self.real {
+            self.lu.solve_real(b).map(|x| Complex64::new(x, 0.0))
+        } else {
+            let (xr, xi) = self.lu.solve_parts(b, [0.0; 4]);
+            [0, 1, 2, 3].map(|i| Complex64::new(xr[i], xi[i]))
+        }
+    }
+}
+
+/// Tangential components `(E·s, E·u, H·s, H·u)` of real fields.
+#[inline]
+pub(crate) fn tangential_real(frame: &TangentFrame, e: DVec3, h: DVec3) -> [f64; 4] {
+    [
+        e.dot(frame.s),
+        e.dot(frame.u),
+        h.dot(frame.s),
+        h.dot(frame.u),
+    ]
 }
 
 /// `sqrt(|F_out| / |F_in|)`, the factor from amplitudes to energy-normalized
