@@ -442,13 +442,10 @@ fn main() {
                 let rust_c = Trait(&rust);
                 #[cfg(feature = "native")]
                 let embree_c = Trait(&embree);
-                let mut contenders: Vec<&dyn Contender> = Vec::new();
                 #[cfg(feature = "native")]
-                {
-                    contenders.push(&raw);
-                    contenders.push(&embree_c);
-                }
-                contenders.push(&rust_c);
+                let contenders: Vec<&dyn Contender> = vec![&raw, &embree_c, &rust_c];
+                #[cfg(not(feature = "native"))]
+                let contenders: Vec<&dyn Contender> = vec![&rust_c];
                 let mut samples = vec![Vec::new(); contenders.len()];
                 let mut hits = vec![0; contenders.len()];
                 for c in &contenders {

@@ -118,3 +118,94 @@ pub fn validate_meshes(meshes: &[TriangleMesh<'_>]) -> Result<(), AccelError> {
     }
     Ok(())
 }
+
+/// Which intersection backend to build: `--accel embree|rust`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum)]
+pub enum AccelKind {
+    /// Embree 3 (only in builds with the `native` feature).
+    Embree,
+    /// spar's own BVH in Rust ([`bvh::RustBvh`]).
+    Rust,
+}
+
+impl AccelKind {
+    /// Every kind, in the order `--help` lists them.
+    pub const ALL: [AccelKind; 2] = [AccelKind::Embree, AccelKind::Rust];
+
+    /// The kind named `name` ("embree" or "rust", any case), or an error
+    /// that lists the names.
+    pub fn parse(name: &str) -> Result<AccelKind, String> {
+        AccelKind::ALL
+            .into_iter()
+            .find(|k| k.name().eq_ignore_ascii_case(name.trim()))
+            .ok_or_else(|| {
+                format!("unknown intersection backend {name:?}: expected \"embree\" or \"rust\"")
+            })
+    }
+
+    /// The name used on the command line and by [`Intersector::name`].
+    pub fn name(self) -> &'static str {
+        match self {
+            AccelKind::Embree => "embree",
+            AccelKind::Rust => "rust",
+        }
+    }
+
+    /// Whether this build can make this backend (Embree needs `native`).
+    pub fn available(self) -> bool {
+        match self {
+            AccelKind::Embree => cfg!(feature = "native"),
+            AccelKind::Rust => true,
+        }
+    }
+}
+
+impl Default for AccelKind {
+    /// Embree where it is built in, else the Rust BVH.
+    fn default() -> AccelKind {
+        if AccelKind::Embree.available() {
+            AccelKind::Embree
+        } else {
+            AccelKind::Rust
+        }
+    }
+}
+
+impl std::fmt::Display for AccelKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for AccelKind {
+    type Err = String;
+    fn from_str(s: &str) -> Result<AccelKind, String> {
+        AccelKind::parse(s)
+    }
+}
+
+/// Builds the chosen backend over `meshes` with `threads` build threads (0:
+/// all cores). Both backends reject the same invalid meshes
+/// ([`validate_meshes`]); asking for Embree in a build without the `native`
+/// feature is an [`AccelError::Backend`] that says so.
+pub fn build(
+    kind: AccelKind,
+    meshes: &[TriangleMesh<'_>],
+    threads: usize,
+) -> Result<Box<dyn Intersector>, AccelError> {
+    match kind {
+        #[cfg(feature = "native")]
+        AccelKind::Embree => Ok(Box::new(embree::EmbreeAccel::build(meshes, threads, None)?)),
+        #[cfg(not(feature = "native"))]
+        AccelKind::Embree => {
+            let _ = (meshes, threads);
+            Err(AccelError::Backend {
+                backend: "embree",
+                message: "this spar was built without the `native` feature, so Embree is not \
+                          available; use `--accel rust`"
+                    .into(),
+            })
+        }
+        AccelKind::Rust => Ok(Box::new(bvh::RustBvh::build(meshes, threads)?)),
+    }
+}

@@ -145,23 +145,39 @@ impl RustBvh {
 
     #[inline(always)]
     fn intersect_with<C: traverse::Counter>(&self, ray: &Ray, counter: &mut C) -> Option<Hit> {
-        let prepared = PreparedRay::new(ray)?;
-        let (p, lane_hit) = traverse::closest_hit(&self.bvh, &prepared, counter)?;
-        let packet = &self.bvh.packets[p];
-        let lane = lane_hit.lane;
-        let t32 = lane_hit.t as f64 * prepared.t_to_caller;
-        let (t, u, v, ng) = packet.refine(lane, ray, t32);
-        // The f64 t may differ from the f32 one that passed the interval
-        // test by rounding: keep the contract t ∈ [tmin, tmax].
-        let t = t.max(ray.tmin.max(0.0)).min(ray.tmax);
-        Some(Hit {
-            t,
-            geom: packet.geom[lane],
-            prim: packet.prim[lane],
-            u,
-            v,
-            ng,
-        })
+        let mut prepared = PreparedRay::new(ray)?;
+        let tmin = ray.tmin.max(0.0);
+        loop {
+            let (p, lane_hit) = traverse::closest_hit(&self.bvh, &prepared, counter)?;
+            let packet = &self.bvh.packets[p];
+            let lane = lane_hit.lane;
+            let t32 = lane_hit.t as f64 * prepared.t_to_caller;
+            let (t, u, v, ng) = packet.refine(lane, ray, t32);
+            // The f32 interval was rounded outward; the f64 t decides. A
+            // closest hit beyond tmax means no hit; one before tmin (a ray
+            // leaving a surface it starts on, say) is skipped by tracing
+            // again from just past it.
+            if t > ray.tmax {
+                return None;
+            }
+            if t < tmin {
+                // Past this hit (whose f32 t may sit just below the f32
+                // tmin: the interval test compares t·det, not t).
+                prepared.tmin = ray::next_f32_up(lane_hit.t.max(prepared.tmin));
+                if !(prepared.tmin <= prepared.tmax) {
+                    return None;
+                }
+                continue;
+            }
+            return Some(Hit {
+                t,
+                geom: packet.geom[lane],
+                prim: packet.prim[lane],
+                u,
+                v,
+                ng,
+            });
+        }
     }
 }
 

@@ -92,6 +92,11 @@ pub(super) fn f32_up(x: f64) -> f32 {
     }
 }
 
+/// The f32 just above `y`.
+pub(super) fn next_f32_up(y: f32) -> f32 {
+    -next_toward_neg_inf(-y)
+}
+
 /// The f32 just below `y` (`f32::next_down`, which is newer than spar's
 /// minimum Rust version).
 fn next_toward_neg_inf(y: f32) -> f32 {
@@ -108,7 +113,8 @@ fn next_toward_neg_inf(y: f32) -> f32 {
 
 impl PreparedRay {
     /// Prepares a ray, or `None` when no hit is possible: a zero,
-    /// subnormal (below 2⁻¹⁰²² in every component) or non-finite direction, an origin that is not a finite f32, or an
+    /// subnormal (below 2⁻¹⁰²² in every component) or non-finite direction,
+    /// a NaN bound, an origin that is not a finite f32, or an
     /// empty interval. A negative `tmin` counts as 0, as Embree requires.
     #[inline(always)]
     pub fn new(ray: &Ray) -> Option<PreparedRay> {
@@ -132,7 +138,7 @@ impl PreparedRay {
         if !org.iter().all(|c| c.is_finite()) {
             return None;
         }
-        if !(ray.tmin.max(0.0) <= ray.tmax) {
+        if ray.tmin.is_nan() || !(ray.tmin.max(0.0) <= ray.tmax) {
             return None;
         }
         let tmin = f32_down(ray.tmin.max(0.0) * t_from_caller);
