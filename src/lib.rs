@@ -18,6 +18,8 @@
 //! - [`geometry`]: meshes and their loading.
 //! - [`scene`]: scene files (TOML), validated into what the renderer reads.
 //! - [`render`]: camera, deterministic sampling, the integrator, the film.
+//! - [`farm`]: render farms: sample blocks, raw parts, merging,
+//!   checkpoints, progress lines, job scripts.
 //! - [`cli`]: the command line.
 #![deny(unsafe_code)]
 // `!(x > 0.0)` is how numeric code here says "not positive, or NaN": the
@@ -26,6 +28,7 @@
 
 pub mod accel;
 pub mod cli;
+pub mod farm;
 pub mod geometry;
 pub mod image;
 pub mod material;

@@ -7,7 +7,10 @@ use std::fmt;
 
 pub mod contact_sheet;
 pub mod cut;
+pub mod develop;
 pub mod interface;
+pub mod merge;
+pub mod plan;
 pub mod render;
 
 /// spar: renders polarized light in cut gems and birefringent crystals.
@@ -29,6 +32,14 @@ pub enum Command {
     Cut(cut::CutArgs),
     /// Solve one interface: every outgoing wave for one incident wave.
     Interface(interface::InterfaceArgs),
+    /// Merge the raw parts of one render (tiles, regions, sample blocks)
+    /// into the whole raw render.
+    Merge(merge::MergeArgs),
+    /// Make images from a complete raw render (merged or --raw).
+    Develop(develop::DevelopArgs),
+    /// Print a render-farm job (Slurm script or OpenJD template) that
+    /// renders a scene as tiles and merges them.
+    Plan(plan::PlanArgs),
 }
 
 /// An error the command line reports.
@@ -76,6 +87,9 @@ pub fn main() -> i32 {
         Command::ContactSheet(args) => contact_sheet::run(&args),
         Command::Cut(args) => cut::run(&args),
         Command::Interface(args) => interface::run(&args, &mut std::io::stdout().lock()),
+        Command::Merge(args) => merge::run(&args),
+        Command::Develop(args) => develop::run(&args),
+        Command::Plan(args) => plan::run(&args, &mut std::io::stdout().lock()),
     };
     match result {
         Ok(()) => 0,

@@ -1,15 +1,25 @@
 //! `spar render [SCENE]`: render a scene file (or the embedded default
-//! scene) in one or more camera modes.
+//! scene) in one or more camera modes, or one unit of work of a render
+//! farm as a raw EXR part (`--region`, `--tile`, `--samples k0..k1`,
+//! `--raw`; see docs/farm.md).
 
 use super::CliError;
 use crate::accel::{Intersector, TriangleMesh};
+use crate::farm::blocks::SampleRange;
+use crate::farm::checkpoint;
+use crate::farm::part::{part_image, RenderInfo};
+use crate::farm::progress::{ProgressMode, Reporter};
+use crate::farm::region::{self, Rect, TileSpec};
 use crate::image::{PixelType, WriteOptions};
-use crate::render::integrator::TreeSettings;
+use crate::render::film::Film;
+use crate::render::integrator::{Stats, TreeSettings};
 use crate::render::output::{develop, OutputMode};
-use crate::render::{render, RenderOptions};
+use crate::render::{render_part, Control, Outcome, PartSpec, RenderOptions, TileData, TILE};
 use crate::scene::{builtin, Scene};
 use crate::spectrum::WavelengthSet;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Arc;
 use std::time::Instant;
 
 #[derive(clap::Args, Debug)]
@@ -18,11 +28,13 @@ pub struct RenderArgs {
     /// gem over a textured light.
     pub scene: Option<PathBuf>,
     /// Camera modes, comma-separated: color, mono, dop, ellipticity,
-    /// ellipticity-paper, azimuth, stokes.
+    /// ellipticity-paper, azimuth, stokes. With a raw output they choose
+    /// the wavelengths traced.
     #[arg(long, short, value_delimiter = ',', default_value = "color")]
     pub mode: Vec<OutputMode>,
     /// Output file. With several modes, each mode's name is appended to its
-    /// stem (spar-color.png, spar-dop.png, spar-stokes.exr).
+    /// stem (spar-color.png, spar-dop.png, spar-stokes.exr). A raw output
+    /// is one .exr file.
     #[arg(long, short, default_value = "spar.png")]
     pub output: PathBuf,
     /// Wavelength of the single-wavelength modes (mono, dop, ellipticity,
@@ -31,12 +43,82 @@ pub struct RenderArgs {
     pub wavelength: f64,
     #[command(flatten)]
     pub overrides: SceneOverrides,
+    #[command(flatten)]
+    pub farm: FarmArgs,
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
-    /// No progress bar or summary.
+    /// No progress or summary.
     #[arg(long, short)]
     pub quiet: bool,
+}
+
+/// The render-farm flags of `spar render`.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct FarmArgs {
+    /// Render only the pixels x0..x1, y0..y1 (ends exclusive) into a raw
+    /// EXR part.
+    #[arg(long, value_parser = Rect::parse, conflicts_with = "tile")]
+    pub region: Option<Rect>,
+    /// Render tile I of the N-way split spar computes (I counts from 0)
+    /// into a raw EXR part.
+    #[arg(long, value_parser = TileSpec::parse)]
+    pub tile: Option<TileSpec>,
+    /// Write the raw per-pixel sums (float32 EXR) instead of images, also
+    /// for a whole render; `spar develop` makes the images.
+    #[arg(long)]
+    pub raw: bool,
+    /// Pin Embree's instruction set: sse2, sse4.2, avx, avx2, avx512.
+    /// Machines of a farm that differ in ISA can hit different triangles
+    /// at edges; pin one for all of them.
+    #[arg(long)]
+    pub isa: Option<String>,
+    /// Progress: auto (a bar on a terminal, else plain lines), bar, plain
+    /// (`spar: progress …` lines on stdout), openjd (`openjd_progress: N`),
+    /// none.
+    #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
+    pub progress: ProgressMode,
+    /// Checkpoint file written on SIGTERM, SIGINT or SIGUSR1 (default: the
+    /// output's name with `.checkpoint` appended).
+    #[arg(long)]
+    pub checkpoint: Option<PathBuf>,
+    /// Continue from the checkpoint if there is one (and start afresh if
+    /// there is none).
+    #[arg(long)]
+    pub resume: bool,
+}
+
+/// `--samples`: a count per pixel, or a block of samples.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SamplesArg {
+    /// `N`: samples per pixel.
+    Count(u32),
+    /// `k0..k1` or `k0..k1/N`: samples k0 to k1 (exclusive) of the
+    /// scene's count, or of N.
+    Block {
+        start: u32,
+        end: u32,
+        total: Option<u32>,
+    },
+}
+
+fn parse_samples(s: &str) -> Result<SamplesArg, String> {
+    let num = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("`{s}` is not N, k0..k1 or k0..k1/N"))
+    };
+    if !s.contains("..") {
+        return Ok(SamplesArg::Count(num(s)?));
+    }
+    let (range, total) = s.split_once('/').map_or((s, None), |(r, t)| (r, Some(t)));
+    let (a, b) = range.split_once("..").expect("checked above");
+    let (start, end) = (num(a)?, num(b)?);
+    let total = total.map(num).transpose()?;
+    if start >= end {
+        return Err(format!("`{s}`: a sample block k0..k1 needs k0 < k1"));
+    }
+    Ok(SamplesArg::Block { start, end, total })
 }
 
 /// Settings that override a scene file's.
@@ -46,9 +128,10 @@ pub struct SceneOverrides {
     /// wavelength (580nm) or a list (450,550,650). Overrides the scene.
     #[arg(long)]
     pub wavelengths: Option<String>,
-    /// Samples per pixel (overrides the scene).
-    #[arg(long)]
-    pub samples: Option<u32>,
+    /// Samples per pixel (overrides the scene); for `spar render`, also a
+    /// block of them: `k0..k1` (of the scene's count) or `k0..k1/N`.
+    #[arg(long, value_parser = parse_samples)]
+    pub samples: Option<SamplesArg>,
     /// Image size WIDTHxHEIGHT (overrides the scene).
     #[arg(long, value_parser = parse_resolution)]
     pub resolution: Option<(u32, u32)>,
@@ -67,17 +150,42 @@ pub struct SceneOverrides {
 
 impl SceneOverrides {
     /// Applies the overrides to a scene, checked like the scene's own values.
+    /// A sample block is refused (only `spar render` takes one).
     pub fn apply(&self, scene: &mut Scene) -> Result<(), CliError> {
+        if let Some(SamplesArg::Block { .. }) = self.samples {
+            return Err(CliError::Input(
+                "--samples k0..k1 (a sample block) is for spar render; give a count".into(),
+            ));
+        }
+        self.apply_with_block(scene).map(|_| ())
+    }
+
+    /// Applies the overrides and returns the sample block asked for, if
+    /// any, checked against the scene's sample count.
+    pub fn apply_with_block(&self, scene: &mut Scene) -> Result<Option<SampleRange>, CliError> {
         let input = CliError::Input;
         if let Some(spec) = &self.wavelengths {
             scene.settings.wavelengths =
                 WavelengthSet::parse(spec).map_err(|e| input(format!("--wavelengths: {e}")))?;
         }
-        if let Some(s) = self.samples {
-            if s == 0 {
+        let mut block = None;
+        match self.samples {
+            Some(SamplesArg::Count(0)) | Some(SamplesArg::Block { total: Some(0), .. }) => {
                 return Err(input("--samples must be at least 1".into()));
             }
-            scene.samples = s;
+            Some(SamplesArg::Count(s)) => scene.samples = s,
+            Some(SamplesArg::Block { start, end, total }) => {
+                if let Some(t) = total {
+                    scene.samples = t;
+                }
+                block = Some(SampleRange::new(start, end, scene.samples).ok_or_else(|| {
+                    input(format!(
+                        "--samples {start}..{end}: the block must lie within the {} samples per pixel",
+                        scene.samples
+                    ))
+                })?);
+            }
+            None => {}
         }
         if let Some((w, h)) = self.resolution {
             scene.camera = scene.camera.clone().with_resolution(w, h);
@@ -97,7 +205,39 @@ impl SceneOverrides {
         if let Some(s) = self.seed {
             scene.settings.seed = s;
         }
-        Ok(())
+        Ok(block)
+    }
+
+    /// The overrides as command-line arguments (for job scripts).
+    pub fn to_args(&self) -> Vec<String> {
+        let mut a = Vec::new();
+        if let Some(w) = &self.wavelengths {
+            a.extend(["--wavelengths".into(), w.clone()]);
+        }
+        match self.samples {
+            Some(SamplesArg::Count(n)) => a.extend(["--samples".into(), n.to_string()]),
+            Some(SamplesArg::Block { start, end, total }) => a.extend([
+                "--samples".into(),
+                match total {
+                    Some(t) => format!("{start}..{end}/{t}"),
+                    None => format!("{start}..{end}"),
+                },
+            ]),
+            None => {}
+        }
+        if let Some((w, h)) = self.resolution {
+            a.extend(["--resolution".into(), format!("{w}x{h}")]);
+        }
+        if let Some(d) = self.max_depth {
+            a.extend(["--max-depth".into(), d.to_string()]);
+        }
+        if let Some(p) = self.prune {
+            a.extend(["--prune".into(), format!("{p:?}")]);
+        }
+        if let Some(s) = self.seed {
+            a.extend(["--seed".into(), s.to_string()]);
+        }
+        a
     }
 }
 
@@ -119,6 +259,70 @@ fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
     }
 }
 
+/// Embree ISA names `--isa` takes (Embree 3's device config; it silently
+/// falls back to SSE2 for any other name, so spar checks them).
+pub const ISAS: [&str; 5] = ["sse2", "sse4.2", "avx", "avx2", "avx512"];
+
+/// Checks an `--isa` name and that this CPU has the instruction set.
+pub fn check_isa(name: &str) -> Result<(), String> {
+    if !ISAS.contains(&name) {
+        return Err(format!(
+            "--isa {name}: unknown instruction set; Embree 3 takes {}",
+            ISAS.join(", ")
+        ));
+    }
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::is_x86_feature_detected as has;
+        let missing: Vec<&str> = match name {
+            "sse2" => vec![],
+            "sse4.2" => [("sse4.2", has!("sse4.2"))]
+                .iter()
+                .filter(|f| !f.1)
+                .map(|f| f.0)
+                .collect(),
+            "avx" => [("avx", has!("avx"))]
+                .iter()
+                .filter(|f| !f.1)
+                .map(|f| f.0)
+                .collect(),
+            "avx2" => [
+                ("avx2", has!("avx2")),
+                ("fma", has!("fma")),
+                ("bmi1", has!("bmi1")),
+                ("bmi2", has!("bmi2")),
+                ("lzcnt", has!("lzcnt")),
+            ]
+            .iter()
+            .filter(|f| !f.1)
+            .map(|f| f.0)
+            .collect(),
+            _ => [
+                ("avx512f", has!("avx512f")),
+                ("avx512dq", has!("avx512dq")),
+                ("avx512cd", has!("avx512cd")),
+                ("avx512bw", has!("avx512bw")),
+                ("avx512vl", has!("avx512vl")),
+            ]
+            .iter()
+            .filter(|f| !f.1)
+            .map(|f| f.0)
+            .collect(),
+        };
+        if !missing.is_empty() {
+            return Err(format!(
+                "--isa {name}: this CPU lacks {}",
+                missing.join(", ")
+            ));
+        }
+        Ok(())
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    Err(format!(
+        "--isa {name}: instruction sets can be pinned on x86-64 only"
+    ))
+}
+
 /// The output path of `mode` when `modes` are rendered together.
 pub fn output_path(output: &Path, mode: OutputMode, several: bool) -> PathBuf {
     let stem = output
@@ -138,19 +342,48 @@ pub fn output_path(output: &Path, mode: OutputMode, several: bool) -> PathBuf {
     output.with_file_name(name)
 }
 
-fn fnv1a(text: &str) -> u64 {
-    text.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
-        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
-    })
-}
-
 /// A finished render and what it cost.
 pub struct Rendered {
-    pub film: crate::render::film::Film,
-    pub stats: crate::render::integrator::Stats,
+    pub film: Film,
+    pub stats: Stats,
     pub options: RenderOptions,
     pub accel_time: std::time::Duration,
     pub render_time: std::time::Duration,
+}
+
+/// The wavelengths `modes` need: the scene's colour wavelengths for the
+/// spectral modes, `mono_nm` for the others.
+pub fn lambdas_for(scene: &Scene, modes: &[OutputMode], mono_nm: f64) -> Vec<f64> {
+    let mut lambdas: Vec<f64> = Vec::new();
+    if modes.iter().any(|m| m.is_spectral()) {
+        lambdas.extend_from_slice(scene.settings.wavelengths.lambdas());
+    }
+    if modes.iter().any(|m| !m.is_spectral())
+        && !lambdas.iter().any(|&l| (l - mono_nm).abs() < 1e-9)
+    {
+        lambdas.push(mono_nm);
+    }
+    lambdas
+}
+
+fn options_for(scene: &Scene, lambdas: Vec<f64>, progress: bool) -> RenderOptions {
+    RenderOptions {
+        lambdas,
+        tree: TreeSettings {
+            max_depth: scene.settings.max_depth,
+            prune: scene.settings.prune,
+        },
+        samples: scene.samples,
+        seed: scene.settings.seed,
+        progress,
+    }
+}
+
+fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, CliError> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| CliError::Failed(format!("cannot start worker threads: {e}")))
 }
 
 /// Renders what `modes` need: the scene's colour wavelengths for the
@@ -162,34 +395,13 @@ pub fn render_film(
     threads: usize,
     progress: bool,
 ) -> Result<Rendered, CliError> {
-    let mut lambdas: Vec<f64> = Vec::new();
-    if modes.iter().any(|m| m.is_spectral()) {
-        lambdas.extend_from_slice(scene.settings.wavelengths.lambdas());
-    }
-    if modes.iter().any(|m| !m.is_spectral())
-        && !lambdas.iter().any(|&l| (l - mono_nm).abs() < 1e-9)
-    {
-        lambdas.push(mono_nm);
-    }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| CliError::Failed(format!("cannot start worker threads: {e}")))?;
+    let pool = thread_pool(threads)?;
     let t0 = Instant::now();
     let accel = build_accel(scene, pool.current_num_threads())?;
     let accel_time = t0.elapsed();
-    let options = RenderOptions {
-        lambdas,
-        tree: TreeSettings {
-            max_depth: scene.settings.max_depth,
-            prune: scene.settings.prune,
-        },
-        samples: scene.samples,
-        seed: scene.settings.seed,
-        progress,
-    };
+    let options = options_for(scene, lambdas_for(scene, modes, mono_nm), progress);
     let t1 = Instant::now();
-    let (film, stats) = pool.install(|| render(scene, accel.as_ref(), &options));
+    let (film, stats) = pool.install(|| crate::render::render(scene, accel.as_ref(), &options));
     let render_time = t1.elapsed();
     if film.data.iter().flatten().any(|v| !v.is_finite()) {
         return Err(CliError::Failed(
@@ -206,8 +418,18 @@ pub fn render_film(
 }
 
 /// Builds the Embree accelerator for a scene's objects.
-#[cfg(feature = "native")]
 pub fn build_accel(scene: &Scene, threads: usize) -> Result<Box<dyn Intersector>, CliError> {
+    build_accel_isa(scene, threads, None)
+}
+
+/// Builds the Embree accelerator with Embree's ISA pinned to `isa` (a name
+/// [`check_isa`] accepted).
+#[cfg(feature = "native")]
+pub fn build_accel_isa(
+    scene: &Scene,
+    threads: usize,
+    isa: Option<&str>,
+) -> Result<Box<dyn Intersector>, CliError> {
     let verts: Vec<Vec<[f32; 3]>> = scene
         .objects
         .iter()
@@ -222,13 +444,17 @@ pub fn build_accel(scene: &Scene, threads: usize) -> Result<Box<dyn Intersector>
             triangles: &o.mesh.triangles,
         })
         .collect();
-    let accel = crate::accel::embree::EmbreeAccel::build(&meshes, threads, None)
+    let accel = crate::accel::embree::EmbreeAccel::build(&meshes, threads, isa)
         .map_err(|e| CliError::Failed(e.to_string()))?;
     Ok(Box::new(accel))
 }
 
 #[cfg(not(feature = "native"))]
-pub fn build_accel(_scene: &Scene, _threads: usize) -> Result<Box<dyn Intersector>, CliError> {
+pub fn build_accel_isa(
+    _scene: &Scene,
+    _threads: usize,
+    _isa: Option<&str>,
+) -> Result<Box<dyn Intersector>, CliError> {
     let _ = TriangleMesh {
         vertices: &[],
         triangles: &[],
@@ -238,14 +464,117 @@ pub fn build_accel(_scene: &Scene, _threads: usize) -> Result<Box<dyn Intersecto
     ))
 }
 
+/// Refuses an output whose directory does not exist or that names a
+/// directory, before any work starts.
+pub fn check_output(path: &Path) -> Result<(), CliError> {
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    if !dir.is_dir() {
+        return Err(CliError::Input(format!(
+            "{}: the directory {} does not exist",
+            path.display(),
+            dir.display()
+        )));
+    }
+    if path.is_dir() {
+        return Err(CliError::Input(format!(
+            "{}: is a directory, not a file name",
+            path.display()
+        )));
+    }
+    Ok(())
+}
+
+/// Develops `film` in each mode and writes the images (the one code path
+/// of `spar render` and `spar develop`). `metadata` goes into every file,
+/// with `spar:mode`.
+#[allow(clippy::too_many_arguments)]
+pub fn write_modes(
+    film: &Film,
+    modes: &[OutputMode],
+    colour: &WavelengthSet,
+    mono_nm: f64,
+    output: &Path,
+    metadata: &[(String, String)],
+    quiet: bool,
+    reporter: &Reporter,
+) -> Result<(), CliError> {
+    for &m in modes {
+        let path = output_path(output, m, modes.len() > 1);
+        let mut image = develop(film, m, colour, mono_nm).map_err(CliError::Input)?;
+        for (k, v) in metadata {
+            image = image.with_metadata(k.clone(), v.clone());
+        }
+        let image = image.with_metadata("spar:mode", m.name());
+        let options = match m {
+            OutputMode::Stokes => WriteOptions::new(PixelType::F32),
+            _ => WriteOptions::new(PixelType::U8),
+        };
+        crate::image::write(&path, &image, options).map_err(|e| CliError::Input(e.to_string()))?;
+        reporter.event("wrote", &path.display().to_string());
+        if !quiet && !reporter.prints_lines() {
+            eprintln!("wrote {}", path.display());
+        }
+    }
+    Ok(())
+}
+
+/// Signal flags: SIGTERM and SIGINT stop (after the tiles in flight) and
+/// save a checkpoint; SIGUSR1 saves one and goes on. A second SIGINT
+/// ends the process at once.
+pub struct Signals {
+    pub stop: Arc<AtomicBool>,
+    pub save: Arc<AtomicBool>,
+    /// The signal that stopped the render, 0 if none.
+    pub which: Arc<AtomicUsize>,
+}
+
+impl Signals {
+    pub fn install() -> Result<Signals, CliError> {
+        let s = Signals {
+            stop: Arc::new(AtomicBool::new(false)),
+            save: Arc::new(AtomicBool::new(false)),
+            which: Arc::new(AtomicUsize::new(0)),
+        };
+        #[cfg(unix)]
+        {
+            use signal_hook::consts::{SIGINT, SIGTERM, SIGUSR1};
+            use signal_hook::flag;
+            let fail = |e: std::io::Error| CliError::Failed(format!("cannot handle signals: {e}"));
+            flag::register_conditional_shutdown(SIGINT, 130, s.stop.clone()).map_err(fail)?;
+            for sig in [SIGTERM, SIGINT] {
+                flag::register_usize(sig, s.which.clone(), sig as usize).map_err(fail)?;
+                flag::register(sig, s.stop.clone()).map_err(fail)?;
+            }
+            flag::register(SIGUSR1, s.save.clone()).map_err(fail)?;
+        }
+        Ok(s)
+    }
+
+    fn name(&self) -> &'static str {
+        #[cfg(unix)]
+        {
+            match self.which.load(Ordering::SeqCst) as i32 {
+                signal_hook::consts::SIGINT => "SIGINT",
+                _ => "SIGTERM",
+            }
+        }
+        #[cfg(not(unix))]
+        "a signal"
+    }
+}
+
 pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let input = CliError::Input;
+    let started = Instant::now();
     let mut scene = match &args.scene {
         Some(path) => Scene::load(path).map_err(|e| input(e.to_string()))?,
         None => Scene::parse(builtin::DEFAULT_SCENE, "(default scene)", Path::new("."))
             .map_err(|e| CliError::Failed(e.to_string()))?,
     };
-    args.overrides.apply(&mut scene)?;
+    let block = args.overrides.apply_with_block(&mut scene)?;
     if !(args.wavelength.is_finite() && (360.0..=830.0).contains(&args.wavelength)) {
         return Err(input(format!(
             "--wavelength {} is outside 360–830 nm",
@@ -261,69 +590,211 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     if modes.is_empty() {
         return Err(input("--mode needs at least one mode".into()));
     }
+    let farm = &args.farm;
+    if let Some(isa) = &farm.isa {
+        check_isa(isa).map_err(input)?;
+    }
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let region = match (farm.region, farm.tile) {
+        (Some(r), _) => {
+            if !r.fits(w, h) {
+                return Err(input(format!(
+                    "--region {r} is not inside the {w}x{h} image (x0,x1,y0,y1, ends exclusive)"
+                )));
+            }
+            r
+        }
+        (None, Some(t)) => region::split(w, h, t.count)
+            .map_err(|e| input(format!("--tile {}/{}: {e}", t.index, t.count)))?[t.index as usize],
+        (None, None) => Rect::full(w, h),
+    };
+    let samples = block.unwrap_or(SampleRange::all(scene.samples));
+    let spec = PartSpec { region, samples };
+    let raw = farm.raw || farm.region.is_some() || farm.tile.is_some() || block.is_some();
     // Refuse to start a long render whose output cannot be written.
-    for &m in &modes {
-        let path = output_path(&args.output, m, modes.len() > 1);
-        let dir = path
-            .parent()
-            .filter(|p| !p.as_os_str().is_empty())
-            .unwrap_or(Path::new("."));
-        if !dir.is_dir() {
+    if raw {
+        if args
+            .output
+            .extension()
+            .is_none_or(|e| !e.eq_ignore_ascii_case("exr"))
+        {
             return Err(input(format!(
-                "{}: the directory {} does not exist",
-                path.display(),
-                dir.display()
+                "{}: a raw part (--region, --tile, --samples k0..k1, --raw) is an .exr file",
+                args.output.display()
             )));
         }
-    }
-
-    let threads = args.threads.unwrap_or(0);
-    let done = render_film(&scene, &modes, args.wavelength, threads, !args.quiet)?;
-    let (film, stats, opts) = (&done.film, done.stats, &done.options);
-    let (t_accel, t_render) = (done.accel_time, done.render_time);
-
-    let settings = format!(
-        "resolution={}x{} samples={} max_depth={} prune={} seed={} wavelengths={:?} mono_nm={}",
-        scene.camera.width,
-        scene.camera.height,
-        scene.samples,
-        opts.tree.max_depth,
-        opts.tree.prune,
-        opts.seed,
-        scene.settings.wavelengths.lambdas(),
-        args.wavelength
-    );
-    for &m in &modes {
-        let path = output_path(&args.output, m, modes.len() > 1);
-        let image = develop(film, m, &scene.settings.wavelengths, args.wavelength)
-            .map_err(CliError::Failed)?
-            .with_metadata("spar:version", crate::VERSION)
-            .with_metadata("spar:mode", m.name())
-            .with_metadata(
-                "spar:scene",
-                args.scene
-                    .as_ref()
-                    .map_or("(default scene)".into(), |p| p.display().to_string()),
-            )
-            .with_metadata("spar:scene_hash", format!("{:016x}", fnv1a(&scene.source)))
-            .with_metadata("spar:settings", settings.clone());
-        let options = match m {
-            OutputMode::Stokes => WriteOptions::new(PixelType::F32),
-            _ => WriteOptions::new(PixelType::U8),
-        };
-        crate::image::write(&path, &image, options).map_err(|e| input(e.to_string()))?;
-        if !args.quiet {
-            eprintln!("wrote {}", path.display());
+        check_output(&args.output)?;
+    } else {
+        for &m in &modes {
+            check_output(&output_path(&args.output, m, modes.len() > 1))?;
         }
     }
+
+    let scene_label = args
+        .scene
+        .as_ref()
+        .map_or("(default scene)".into(), |p| p.display().to_string());
+    let lambdas = lambdas_for(&scene, &modes, args.wavelength);
+    let info = RenderInfo::new(
+        &scene,
+        &scene_label,
+        lambdas.clone(),
+        args.wavelength,
+        farm.isa.as_deref(),
+    );
+    let progress_mode = if args.quiet {
+        ProgressMode::None
+    } else {
+        farm.progress
+    };
+    let reporter = Reporter::new(progress_mode);
+    let options = options_for(&scene, lambdas, reporter.wants_bar());
+
+    // Checkpoint: named after the output; valid only for this render,
+    // part and tile size.
+    let ckpt_path = farm.checkpoint.clone().unwrap_or_else(|| {
+        let mut name = args.output.as_os_str().to_owned();
+        name.push(".checkpoint");
+        PathBuf::from(name)
+    });
+    let ckpt_key = format!(
+        "{} region {} samples {} tile {TILE} channels {}",
+        info.key(),
+        spec.region,
+        spec.samples.label(),
+        options.lambdas.len() * 4
+    );
+    let resume = if farm.resume {
+        match checkpoint::load(&ckpt_path, &ckpt_key).map_err(|e| input(e.to_string()))? {
+            Some(tiles) => {
+                reporter.event(
+                    "resume",
+                    &format!("{} ({} tiles done)", ckpt_path.display(), tiles.len()),
+                );
+                tiles
+            }
+            None => {
+                reporter.event(
+                    "resume",
+                    &format!("no checkpoint at {}: starting afresh", ckpt_path.display()),
+                );
+                Vec::new()
+            }
+        }
+    } else {
+        if ckpt_path.exists() && !args.quiet {
+            eprintln!(
+                "spar: note: {} exists; pass --resume to continue from it",
+                ckpt_path.display()
+            );
+        }
+        Vec::new()
+    };
+
+    let signals = Signals::install()?;
+    let threads = args.threads.unwrap_or(0);
+    let pool = thread_pool(threads)?;
+    let t_accel = Instant::now();
+    let accel = build_accel_isa(&scene, pool.current_num_threads(), farm.isa.as_deref())?;
+    let t_accel = t_accel.elapsed();
+    let grid_len = crate::render::tiles(spec.region, TILE).len();
+    reporter.event(
+        "start",
+        &format!(
+            "render {scene_label} region {} samples {} ({grid_len} tiles, {} threads)",
+            spec.region,
+            spec.samples.label(),
+            pool.current_num_threads()
+        ),
+    );
+    let save_error = std::sync::Mutex::new(None::<String>);
+    let save = |tiles: &[&TileData]| match checkpoint::save(&ckpt_path, &ckpt_key, tiles) {
+        Ok(()) => reporter.event(
+            "checkpoint",
+            &format!("{} {}/{grid_len} tiles", ckpt_path.display(), tiles.len()),
+        ),
+        Err(e) => {
+            let msg = format!("cannot write checkpoint {}: {e}", ckpt_path.display());
+            eprintln!("spar: {msg}");
+            *save_error.lock().expect("not poisoned") = Some(msg);
+        }
+    };
+    let on_progress = |done: usize, total: usize| reporter.tiles(done, total);
+    let control = Control {
+        tile_size: TILE,
+        stop: Some(&signals.stop),
+        checkpoint: Some(&signals.save),
+        on_checkpoint: Some(&save),
+        on_progress: Some(&on_progress),
+        resume,
+    };
+    let t_render = Instant::now();
+    let outcome = pool.install(|| render_part(&scene, accel.as_ref(), &options, &spec, control));
+    let t_render = t_render.elapsed();
+    let (part, stats) = match outcome {
+        Outcome::Done(part, stats) => (part, stats),
+        Outcome::Stopped(tiles, _) => {
+            let refs: Vec<&TileData> = tiles.iter().collect();
+            save(&refs);
+            let saved = save_error.lock().expect("not poisoned").is_none();
+            return Err(CliError::Failed(if saved {
+                format!(
+                    "stopped by {} after {}/{grid_len} tiles; checkpoint {} saved: run the same \
+                     command with --resume to continue",
+                    signals.name(),
+                    tiles.len(),
+                    ckpt_path.display()
+                )
+            } else {
+                format!(
+                    "stopped by {} and the checkpoint could not be written",
+                    signals.name()
+                )
+            }));
+        }
+    };
+    if part.data.iter().any(|v| !v.is_finite()) {
+        return Err(CliError::Failed(
+            "internal error: the render produced non-finite values".into(),
+        ));
+    }
+    if raw {
+        let image = part_image(&part, &info).map_err(CliError::Failed)?;
+        crate::image::write(&args.output, &image, WriteOptions::new(PixelType::F32))
+            .map_err(|e| input(e.to_string()))?;
+        reporter.event("wrote", &args.output.display().to_string());
+        if !args.quiet && !reporter.prints_lines() {
+            eprintln!("wrote {}", args.output.display());
+        }
+    } else {
+        let film = part.into_film(w, h).expect("a whole render");
+        let metadata: Vec<(String, String)> = info
+            .metadata()
+            .into_iter()
+            .map(|(k, v)| (k.to_string(), v))
+            .collect();
+        write_modes(
+            &film,
+            &modes,
+            &scene.settings.wavelengths,
+            args.wavelength,
+            &args.output,
+            &metadata,
+            args.quiet,
+            &reporter,
+        )?;
+    }
+    // The outputs are complete: the checkpoint has served.
+    let _ = std::fs::remove_file(&ckpt_path);
     if !args.quiet {
         let secs = t_render.as_secs_f64();
         eprintln!(
-            "{}x{} px, {} spp, {} wavelength(s): accel {:.2} s, render {:.2} s, {} rays ({:.2} M rays/s), {} nodes, {} pruned, {} cut by depth, {} lost",
-            scene.camera.width,
-            scene.camera.height,
-            scene.samples,
-            film.lambdas.len(),
+            "{}x{} px, region {}, samples {}, {} wavelength(s): accel {:.2} s, render {:.2} s, {} rays ({:.2} M rays/s), {} nodes, {} pruned, {} cut by depth, {} lost",
+            w,
+            h,
+            spec.region,
+            spec.samples.label(),
+            options.lambdas.len(),
             t_accel.as_secs_f64(),
             secs,
             stats.rays,
@@ -334,5 +805,42 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             stats.lost
         );
     }
+    reporter.event("done", &format!("{:.1}s", started.elapsed().as_secs_f64()));
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn samples_take_a_count_or_a_block() {
+        assert_eq!(parse_samples("64"), Ok(SamplesArg::Count(64)));
+        assert_eq!(
+            parse_samples("16..32"),
+            Ok(SamplesArg::Block {
+                start: 16,
+                end: 32,
+                total: None
+            })
+        );
+        assert_eq!(
+            parse_samples("0..8/64"),
+            Ok(SamplesArg::Block {
+                start: 0,
+                end: 8,
+                total: Some(64)
+            })
+        );
+        assert!(parse_samples("8..8").is_err());
+        assert!(parse_samples("a..8").is_err());
+        assert!(parse_samples("-1").is_err());
+    }
+
+    #[test]
+    fn isa_names_are_checked() {
+        assert!(check_isa("sse2").is_ok());
+        assert!(check_isa("avx512skx").is_err());
+        assert!(check_isa("bogus").unwrap_err().contains("sse4.2"));
+    }
 }

@@ -1,5 +1,13 @@
 //! The renderer: camera, deterministic sampling, the backward ray-tree
 //! integrator, the film, and the maps that turn a film into images.
+//!
+//! The driver renders one unit of work ([`PartSpec`]: a pixel rectangle
+//! and a block of samples) by 16×16 tiles spread over rayon's threads.
+//! Every random number is a pure function of (seed, pixel, sample,
+//! dimension) ([`sampling`]), each pixel adds only its own samples, and it
+//! adds them in the tree order of [`crate::farm::blocks`]: no value
+//! depends on the thread count, the tile size, the region or the sample
+//! blocks a render is split into.
 
 pub mod camera;
 pub mod film;
@@ -8,11 +16,15 @@ pub mod output;
 pub mod sampling;
 
 use crate::accel::Intersector;
+use crate::farm::blocks::{Accumulator, Node, SampleRange};
+use crate::farm::region::Rect;
 use crate::scene::Scene;
 use film::Film;
 use integrator::{Stats, Tracer, TreeSettings, WavelengthMedia};
 use rayon::prelude::*;
 use sampling::{dim, SampleKey};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Mutex;
 
 /// Side of the square tiles rayon distributes.
 pub const TILE: u32 = 16;
@@ -23,28 +35,193 @@ pub struct RenderOptions {
     /// Wavelengths to trace, nm.
     pub lambdas: Vec<f64>,
     pub tree: TreeSettings,
+    /// Samples per pixel of the whole render.
     pub samples: u32,
     pub seed: u64,
     /// Show a progress bar on stderr.
     pub progress: bool,
 }
 
+/// One unit of work: the pixels of `region`, the samples of `samples`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct PartSpec {
+    pub region: Rect,
+    pub samples: SampleRange,
+}
+
+impl PartSpec {
+    /// Every pixel and every sample of a `width` × `height` render.
+    pub fn whole(width: u32, height: u32, samples: u32) -> PartSpec {
+        PartSpec {
+            region: Rect::full(width, height),
+            samples: SampleRange::all(samples),
+        }
+    }
+}
+
+/// The raw result of a unit of work: for each stored sample-tree node
+/// ([`SampleRange::nodes`]), each pixel of the region (row-major) and each
+/// channel ([`Film::channel_names`]), the `f32` sum. Index
+/// `(node * region.area() + pixel) * channels + channel`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RawPart {
+    pub spec: PartSpec,
+    pub lambdas: Vec<f64>,
+    pub nodes: Vec<Node>,
+    pub data: Vec<f32>,
+}
+
+impl RawPart {
+    /// Values per pixel and node.
+    pub fn channels(&self) -> usize {
+        self.lambdas.len() * 4
+    }
+
+    /// The film of a whole render (every pixel, every sample; one node).
+    pub fn into_film(self, width: u32, height: u32) -> Option<Film> {
+        if self.spec != PartSpec::whole(width, height, self.spec.samples.total)
+            || self.nodes.len() != 1
+        {
+            return None;
+        }
+        Some(Film::from_sums(
+            width,
+            height,
+            self.lambdas,
+            self.spec.samples.total,
+            &self.data,
+        ))
+    }
+}
+
+/// A finished tile of a part: its index in [`tiles`] and its values,
+/// `(node * tile.area() + pixel) * channels + channel`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TileData {
+    pub index: u32,
+    pub data: Vec<f32>,
+}
+
+/// The `size`×`size` tiles of a region, row by row (the last ones
+/// clipped).
+pub fn tiles(region: Rect, size: u32) -> Vec<Rect> {
+    let size = size.max(1);
+    let mut out = Vec::new();
+    for y0 in (region.y0..region.y1).step_by(size as usize) {
+        for x0 in (region.x0..region.x1).step_by(size as usize) {
+            out.push(Rect {
+                x0,
+                x1: (x0 + size).min(region.x1),
+                y0,
+                y1: (y0 + size).min(region.y1),
+            });
+        }
+    }
+    out
+}
+
+/// Called with every tile done so far when a checkpoint is asked for.
+pub type SaveTiles<'a> = &'a (dyn Fn(&[&TileData]) + Sync);
+/// Called with (tiles done, tiles in all).
+pub type ReportTiles<'a> = &'a (dyn Fn(usize, usize) + Sync);
+
+/// How a caller steers and watches a render.
+pub struct Control<'a> {
+    /// Side of the tiles handed to threads. Values do not depend on it;
+    /// a checkpoint is only valid for the tile size that wrote it.
+    pub tile_size: u32,
+    /// When set, tiles not yet started are skipped (those in flight
+    /// finish) and the render returns [`Outcome::Stopped`].
+    pub stop: Option<&'a AtomicBool>,
+    /// When set, the next finished tile clears it and hands every tile
+    /// done so far to `on_checkpoint`.
+    pub checkpoint: Option<&'a AtomicBool>,
+    pub on_checkpoint: Option<SaveTiles<'a>>,
+    /// Called after each tile with (tiles done, tiles in all), including
+    /// those resumed.
+    pub on_progress: Option<ReportTiles<'a>>,
+    /// Tiles already done (from a checkpoint): not rendered again.
+    pub resume: Vec<TileData>,
+}
+
+impl Default for Control<'_> {
+    fn default() -> Self {
+        Control {
+            tile_size: TILE,
+            stop: None,
+            checkpoint: None,
+            on_checkpoint: None,
+            on_progress: None,
+            resume: Vec::new(),
+        }
+    }
+}
+
+/// How a part render ended.
+#[derive(Debug)]
+pub enum Outcome {
+    Done(RawPart, Stats),
+    /// Stopped through [`Control::stop`]: the tiles finished so far, in
+    /// index order.
+    Stopped(Vec<TileData>, Stats),
+}
+
 /// Renders `scene` through `accel`: every pixel, every sample, every
 /// wavelength. Pixels are independent and each sums its samples in a fixed
 /// order, so the film does not depend on the thread count or tiling.
 pub fn render(scene: &Scene, accel: &dyn Intersector, opts: &RenderOptions) -> (Film, Stats) {
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let spec = PartSpec::whole(w, h, opts.samples);
+    match render_part(scene, accel, opts, &spec, Control::default()) {
+        Outcome::Done(part, stats) => (part.into_film(w, h).expect("a whole render"), stats),
+        Outcome::Stopped(..) => unreachable!("no stop flag was given"),
+    }
+}
+
+/// Renders one unit of work. `spec` must fit the camera's image and
+/// `spec.samples.total` should be `opts.samples`.
+pub fn render_part(
+    scene: &Scene,
+    accel: &dyn Intersector,
+    opts: &RenderOptions,
+    spec: &PartSpec,
+    control: Control<'_>,
+) -> Outcome {
     let camera = &scene.camera;
-    let (w, h) = (camera.width, camera.height);
+    let w = camera.width;
+    assert!(
+        spec.region.fits(w, camera.height),
+        "region {} outside the image",
+        spec.region
+    );
     let media: Vec<WavelengthMedia> = opts
         .lambdas
         .iter()
         .map(|&l| WavelengthMedia::new(scene, l))
         .collect();
     let tracer = Tracer::new(scene, accel, opts.tree);
-    let tiles_x = w.div_ceil(TILE);
-    let tiles_y = h.div_ceil(TILE);
+    let nch = opts.lambdas.len() * 4;
+    let nodes = spec.samples.nodes();
+    let grid = tiles(spec.region, control.tile_size);
+    let total_tiles = grid.len();
+
+    let done: Mutex<Vec<Option<TileData>>> = Mutex::new((0..total_tiles).map(|_| None).collect());
+    let mut resumed = 0;
+    {
+        let mut slots = done.lock().expect("not poisoned");
+        for t in control.resume {
+            let i = t.index as usize;
+            if i < total_tiles && t.data.len() == nodes.len() * grid[i].area() * nch {
+                if slots[i].is_none() {
+                    resumed += 1;
+                }
+                slots[i] = Some(t);
+            }
+        }
+    }
+    let finished = AtomicUsize::new(resumed);
     let bar = if opts.progress {
-        let bar = indicatif::ProgressBar::new((tiles_x * tiles_y) as u64);
+        let bar = indicatif::ProgressBar::new(total_tiles as u64);
         bar.set_style(
             indicatif::ProgressStyle::with_template(
                 "{elapsed_precise} [{bar:40}] {pos}/{len} tiles, ETA {eta}",
@@ -52,25 +229,33 @@ pub fn render(scene: &Scene, accel: &dyn Intersector, opts: &RenderOptions) -> (
             .expect("valid template")
             .progress_chars("=> "),
         );
+        bar.set_position(resumed as u64);
         bar
     } else {
         indicatif::ProgressBar::hidden()
     };
-    let n_l = opts.lambdas.len();
-    let tiles: Vec<(u32, u32, Vec<[f64; 4]>, Stats)> = (0..tiles_x * tiles_y)
+    let todo: Vec<usize> = {
+        let slots = done.lock().expect("not poisoned");
+        (0..total_tiles).filter(|&i| slots[i].is_none()).collect()
+    };
+    let stopped = |flag: Option<&AtomicBool>| flag.is_some_and(|f| f.load(Ordering::SeqCst));
+
+    let stats = todo
         .into_par_iter()
-        .map(|tile| {
-            let (tx, ty) = (tile % tiles_x, tile / tiles_x);
-            let (x0, y0) = (tx * TILE, ty * TILE);
-            let (x1, y1) = ((x0 + TILE).min(w), (y0 + TILE).min(h));
+        .map(|index| {
             let mut stats = Stats::default();
-            let mut data = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize * n_l);
-            for y in y0..y1 {
-                for x in x0..x1 {
-                    let start = data.len();
-                    data.resize(start + n_l, [0.0; 4]);
-                    let pixel = &mut data[start..];
-                    for sample in 0..opts.samples {
+            if stopped(control.stop) {
+                return stats;
+            }
+            let tile = grid[index];
+            let npix = tile.area();
+            let mut data = vec![0.0f32; nodes.len() * npix * nch];
+            let mut acc = Accumulator::new(nch);
+            let mut p = 0;
+            for y in tile.y0..tile.y1 {
+                for x in tile.x0..tile.x1 {
+                    acc.clear();
+                    for sample in spec.samples.start..spec.samples.end {
                         let key = SampleKey {
                             seed: opts.seed,
                             pixel: y as u64 * w as u64 + x as u64,
@@ -80,36 +265,88 @@ pub fn render(scene: &Scene, accel: &dyn Intersector, opts: &RenderOptions) -> (
                         let fy = y as f64 + key.uniform(dim::PIXEL_Y);
                         let d = camera.direction(fx, fy);
                         let (bx, by) = camera.stokes_frame(d);
-                        for (i, m) in media.iter().enumerate() {
-                            let j = tracer.camera_ray(camera.eye, d, [bx, by], m, &mut stats);
-                            let s = j.stokes();
-                            let acc = &mut pixel[i];
-                            acc[0] += s.s0;
-                            acc[1] += s.s1;
-                            acc[2] += s.s2;
-                            acc[3] += s.s3;
-                        }
+                        let leaf = Node {
+                            start: sample as u64,
+                            len: 1,
+                        };
+                        acc.push_with(leaf, |v| {
+                            for (m, out) in media.iter().zip(v.chunks_exact_mut(4)) {
+                                let j = tracer.camera_ray(camera.eye, d, [bx, by], m, &mut stats);
+                                let s = j.stokes();
+                                out.copy_from_slice(&[
+                                    s.s0 as f32,
+                                    s.s1 as f32,
+                                    s.s2 as f32,
+                                    s.s3 as f32,
+                                ]);
+                            }
+                        });
+                    }
+                    if spec.samples.end == spec.samples.total {
+                        acc.finish(spec.samples.total);
+                    }
+                    debug_assert_eq!(acc.nodes(), &nodes[..]);
+                    for (j, v) in acc.values().chunks_exact(nch).enumerate() {
+                        let at = (j * npix + p) * nch;
+                        data[at..at + nch].copy_from_slice(v);
+                    }
+                    p += 1;
+                }
+            }
+            let tile_done = TileData {
+                index: index as u32,
+                data,
+            };
+            {
+                let mut slots = done.lock().expect("not poisoned");
+                slots[index] = Some(tile_done);
+                if let (Some(flag), Some(save)) = (control.checkpoint, control.on_checkpoint) {
+                    if flag.swap(false, Ordering::SeqCst) {
+                        let list: Vec<&TileData> = slots.iter().flatten().collect();
+                        save(&list);
                     }
                 }
             }
+            let n = finished.fetch_add(1, Ordering::SeqCst) + 1;
             bar.inc(1);
-            (tx, ty, data, stats)
+            if let Some(report) = control.on_progress {
+                report(n, total_tiles);
+            }
+            stats
         })
-        .collect();
+        .reduce(Stats::default, |mut a, b| {
+            a += b;
+            a
+        });
     bar.finish_and_clear();
-    let mut film = Film::new(w, h, opts.lambdas.clone(), opts.samples);
-    let mut stats = Stats::default();
-    for (tx, ty, data, s) in tiles {
-        stats += s;
-        let (x0, y0) = (tx * TILE, ty * TILE);
-        let (x1, y1) = ((x0 + TILE).min(w), (y0 + TILE).min(h));
-        let mut it = data.chunks_exact(n_l);
-        for y in y0..y1 {
-            for x in x0..x1 {
-                film.pixel_mut(x, y)
-                    .copy_from_slice(it.next().expect("tile size"));
+
+    let slots = done.into_inner().expect("not poisoned");
+    if slots.iter().any(Option::is_none) {
+        return Outcome::Stopped(slots.into_iter().flatten().collect(), stats);
+    }
+    let region = spec.region;
+    let rpix = region.area();
+    let mut data = vec![0.0f32; nodes.len() * rpix * nch];
+    for (tile, t) in grid.iter().zip(slots.into_iter().flatten()) {
+        let npix = tile.area();
+        let tw = tile.width() as usize;
+        for j in 0..nodes.len() {
+            for (r, y) in (tile.y0..tile.y1).enumerate() {
+                let src = (j * npix + r * tw) * nch;
+                let dst_pixel = (y - region.y0) as usize * region.width() as usize
+                    + (tile.x0 - region.x0) as usize;
+                let dst = (j * rpix + dst_pixel) * nch;
+                data[dst..dst + tw * nch].copy_from_slice(&t.data[src..src + tw * nch]);
             }
         }
     }
-    (film, stats)
+    Outcome::Done(
+        RawPart {
+            spec: *spec,
+            lambdas: opts.lambdas.clone(),
+            nodes,
+            data,
+        },
+        stats,
+    )
 }

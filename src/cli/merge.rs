@@ -1,0 +1,77 @@
+//! `spar merge PARTS… -o OUT.exr`: the raw parts of one render (tiles,
+//! regions, sample blocks) into the whole raw render, bit for bit what one
+//! machine would have rendered. Refuses parts of other renders, overlaps,
+//! gaps, half-float and lossy files (exit 2, the error named first).
+
+use super::CliError;
+use crate::farm::merge::merge;
+use crate::farm::part::{carried_metadata, raw_image, read_part};
+use crate::farm::progress::{ProgressMode, Reporter};
+use crate::image::{PixelType, WriteOptions};
+use crate::render::PartSpec;
+use rayon::prelude::*;
+use std::path::PathBuf;
+
+#[derive(clap::Args, Debug)]
+pub struct MergeArgs {
+    /// Raw EXR parts written by `spar render --tile/--region/--samples`.
+    #[arg(required = true)]
+    pub parts: Vec<PathBuf>,
+    /// The merged raw EXR (develop it with `spar develop`).
+    #[arg(long, short)]
+    pub output: PathBuf,
+    /// Progress lines: auto, plain, openjd, none (bar means plain here).
+    #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
+    pub progress: ProgressMode,
+    /// No messages.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+pub fn run(args: &MergeArgs) -> Result<(), CliError> {
+    let input = CliError::Input;
+    if args
+        .output
+        .extension()
+        .is_none_or(|e| !e.eq_ignore_ascii_case("exr"))
+    {
+        return Err(input(format!(
+            "{}: the merged raw file is an .exr file",
+            args.output.display()
+        )));
+    }
+    super::render::check_output(&args.output)?;
+    let reporter = Reporter::new(if args.quiet {
+        ProgressMode::None
+    } else {
+        args.progress
+    });
+    reporter.event("start", &format!("merge {} parts", args.parts.len()));
+    let parts = args
+        .parts
+        .par_iter()
+        .map(|p| read_part(p))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| input(e.to_string()))?;
+    let merged = merge(&parts).map_err(|e| input(e.to_string()))?;
+    let spec = PartSpec::whole(merged.width, merged.height, merged.samples.total);
+    let image = raw_image(
+        &spec,
+        &merged.samples.nodes(),
+        &merged.channels,
+        &merged.data,
+        &carried_metadata(&parts[0]),
+    )
+    .map_err(CliError::Failed)?;
+    crate::image::write(&args.output, &image, WriteOptions::new(PixelType::F32))
+        .map_err(|e| input(e.to_string()))?;
+    reporter.event("wrote", &args.output.display().to_string());
+    if !args.quiet && !reporter.prints_lines() {
+        eprintln!(
+            "merged {} parts into {}",
+            parts.len(),
+            args.output.display()
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,132 @@
+//! `spar plan SCENE --tiles N --slurm|--openjd`: print a job that renders
+//! the scene as N tiles on a farm and merges them (docs/farm.md).
+
+use super::render::{check_isa, SamplesArg, SceneOverrides};
+use super::CliError;
+use crate::farm::plan::Plan;
+use crate::farm::region;
+use crate::render::output::OutputMode;
+use crate::scene::Scene;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+#[derive(clap::Args, Debug)]
+pub struct PlanArgs {
+    /// Scene file (TOML).
+    pub scene: PathBuf,
+    /// Number of tiles (units of work) to split the image into.
+    #[arg(long)]
+    pub tiles: u32,
+    /// Print a Slurm submission script (a job array and a merge job).
+    #[arg(long, conflicts_with = "openjd", required_unless_present = "openjd")]
+    pub slurm: bool,
+    /// Print an Open Job Description job template (YAML).
+    #[arg(long)]
+    pub openjd: bool,
+    /// Directory for parts, logs and results (default: the current one).
+    #[arg(long, default_value = ".")]
+    pub out_dir: PathBuf,
+    /// Camera modes of the final images (and so the wavelengths traced).
+    #[arg(long, short, value_delimiter = ',', default_value = "color")]
+    pub mode: Vec<OutputMode>,
+    /// Wavelength of the single-wavelength modes, nm.
+    #[arg(long, default_value_t = 580.0)]
+    pub wavelength: f64,
+    /// Name of the final image in the output directory.
+    #[arg(long, default_value = "image.png")]
+    pub image: String,
+    #[command(flatten)]
+    pub overrides: SceneOverrides,
+    /// Pin Embree's instruction set on every machine (sse2, sse4.2, avx,
+    /// avx2, avx512).
+    #[arg(long)]
+    pub isa: Option<String>,
+    /// Threads (CPUs) per tile.
+    #[arg(long, default_value_t = 1)]
+    pub threads: u32,
+    /// Slurm partition.
+    #[arg(long)]
+    pub partition: Option<String>,
+    /// Slurm time limit per job (e.g. 1:00:00).
+    #[arg(long)]
+    pub time: Option<String>,
+    /// The spar the jobs run (default: this one).
+    #[arg(long)]
+    pub spar: Option<PathBuf>,
+}
+
+fn absolute(p: &Path) -> Result<PathBuf, CliError> {
+    std::path::absolute(p).map_err(|e| CliError::Input(format!("{}: {e}", p.display())))
+}
+
+pub fn run(args: &PlanArgs, out: &mut dyn Write) -> Result<(), CliError> {
+    let input = CliError::Input;
+    if let Some(SamplesArg::Block { .. }) = args.overrides.samples {
+        return Err(input(
+            "spar plan splits the image into tiles: give --samples a count".into(),
+        ));
+    }
+    let mut scene = Scene::load(&args.scene).map_err(|e| input(e.to_string()))?;
+    args.overrides.apply(&mut scene)?;
+    if args.threads == 0 {
+        return Err(input("--threads must be at least 1".into()));
+    }
+    if let Some(isa) = &args.isa {
+        check_isa(isa).map_err(input)?;
+    }
+    let mut modes = args.mode.clone();
+    modes.dedup();
+    if modes.is_empty() {
+        return Err(input("--mode needs at least one mode".into()));
+    }
+    if !(args.wavelength.is_finite() && (360.0..=830.0).contains(&args.wavelength)) {
+        return Err(input(format!(
+            "--wavelength {} is outside 360–830 nm",
+            args.wavelength
+        )));
+    }
+    region::split(scene.camera.width, scene.camera.height, args.tiles)
+        .map_err(|e| input(format!("--tiles {}: {e}", args.tiles)))?;
+    if args.image.is_empty() || args.image.contains('/') {
+        return Err(input("--image is a file name inside --out-dir".into()));
+    }
+    let spar = match &args.spar {
+        Some(p) => absolute(p)?,
+        None => std::env::current_exe()
+            .map_err(|e| CliError::Failed(format!("cannot find this spar's path: {e}")))?,
+    };
+    let scene_path = absolute(&args.scene)?;
+    let out_dir = absolute(&args.out_dir)?;
+    let mode_list = modes.iter().map(|m| m.name()).collect::<Vec<_>>().join(",");
+    let mut render_args = args.overrides.to_args();
+    render_args.extend(["--mode".into(), mode_list.clone()]);
+    render_args.extend(["--wavelength".into(), format!("{:?}", args.wavelength)]);
+    if let Some(isa) = &args.isa {
+        render_args.extend(["--isa".into(), isa.clone()]);
+    }
+    let develop_args = vec![
+        "--mode".into(),
+        mode_list,
+        "--wavelength".into(),
+        format!("{:?}", args.wavelength),
+    ];
+    let plan = Plan {
+        spar: &spar,
+        scene: &scene_path,
+        out_dir: &out_dir,
+        tiles: args.tiles,
+        render_args,
+        develop_args,
+        threads: args.threads,
+        partition: args.partition.clone(),
+        time: args.time.clone(),
+        image: args.image.clone(),
+    };
+    let text = if args.slurm {
+        plan.slurm()
+    } else {
+        plan.openjd()
+    };
+    out.write_all(text.as_bytes())
+        .map_err(|e| CliError::Failed(format!("cannot write the plan: {e}")))
+}

@@ -1,0 +1,99 @@
+//! Render farms: units of work, raw parts, merging, checkpoints, progress
+//! lines and job scripts. See `docs/farm.md` for the user's view.
+//!
+//! - [`blocks`]: sample blocks and the fixed tree order of every pixel's
+//!   sum (why merged parts equal a one-machine render bit for bit).
+//! - [`region`]: pixel rectangles and the `--tile I/N` split.
+//! - [`part`]: the render's identity and raw EXR parts.
+//! - [`exr`]: an EXR header reader (sample types, compression, windows).
+//! - [`merge`]: parts into the whole, with named errors.
+//! - [`checkpoint`]: finished tiles saved on a signal, resumed later.
+//! - [`progress`]: plain and OpenJD progress lines on stdout.
+//! - [`plan`]: Slurm and OpenJD job scripts.
+
+pub mod blocks;
+pub mod checkpoint;
+pub mod exr;
+pub mod merge;
+pub mod part;
+pub mod plan;
+pub mod progress;
+pub mod region;
+
+use std::path::PathBuf;
+
+/// Why parts cannot be merged (or a raw file developed). Each has a
+/// [`name`](MergeError::name) that starts its message.
+#[derive(Debug, thiserror::Error)]
+pub enum MergeError {
+    #[error("no parts given")]
+    NoParts,
+    #[error("unreadable: {}: {message}", path.display())]
+    Unreadable { path: PathBuf, message: String },
+    #[error("not-a-part: {}: {why}", path.display())]
+    NotAPart { path: PathBuf, why: String },
+    #[error(
+        "half-float: {}: channel {channel} is stored as half float; parts must be float32 \
+         (half keeps 11 bits of a sum)",
+        path.display()
+    )]
+    HalfFloat { path: PathBuf, channel: String },
+    #[error(
+        "lossy: {}: compressed with {method}, which does not keep float32 exactly; parts must \
+         use zip, zips, piz, rle or no compression",
+        path.display()
+    )]
+    Lossy { path: PathBuf, method: String },
+    #[error(
+        "mismatch: {} has {key} `{theirs}` but {} has `{ours}`: they are parts of different renders",
+        path.display(),
+        first.display()
+    )]
+    Mismatch {
+        path: PathBuf,
+        first: PathBuf,
+        key: String,
+        theirs: String,
+        ours: String,
+    },
+    #[error(
+        "overlap: {} and {} both hold samples {samples} of pixels x,x,y,y = {region}",
+        a.display(),
+        b.display()
+    )]
+    Overlap {
+        a: PathBuf,
+        b: PathBuf,
+        region: String,
+        samples: String,
+    },
+    #[error("missing: no part holds samples {samples} of pixels x,x,y,y = {region}")]
+    Missing { region: String, samples: String },
+    #[error(
+        "incomplete: {} holds pixels {region} and samples {samples}, not the whole render; \
+         merge its parts first",
+        path.display()
+    )]
+    Incomplete {
+        path: PathBuf,
+        region: String,
+        samples: String,
+    },
+}
+
+impl MergeError {
+    /// The error's name, as its message starts.
+    pub fn name(&self) -> &'static str {
+        match self {
+            MergeError::NoParts => "no-parts",
+            MergeError::Unreadable { .. } => "unreadable",
+            MergeError::NotAPart { .. } => "not-a-part",
+            MergeError::HalfFloat { .. } => "half-float",
+            MergeError::Lossy { .. } => "lossy",
+            MergeError::Mismatch { .. } => "mismatch",
+            MergeError::Overlap { .. } => "overlap",
+            MergeError::Missing { .. } => "missing",
+            MergeError::Incomplete { .. } => "incomplete",
+        }
+    }
+}
