@@ -69,11 +69,15 @@
 //! ```
 
 use super::fresnel::{fresnel_from_normals, normal_component};
-use super::interface::{energy_factor, tangential_real, BoundarySystem, Interface, InterfaceError};
+use super::interface::{
+    energy_factor, tangential, tangential_real, with_system, Column, Interface, InterfaceError,
+    Solve, WithSystem,
+};
 use super::jones::Jones;
 use super::medium::Medium;
 use super::modes::{
-    evanescent_fields, k_from_ray, Eigenwave, Mode, RealWave, Side, TangentFrame, Travel, WaveKind,
+    evanescent_fields, k_from_ray, Eigenwave, Mode, RealWave, Sheet, Side, TangentFrame, Travel,
+    WaveKind,
 };
 use glam::DVec3;
 use num_complex::Complex64;
@@ -151,10 +155,11 @@ impl Feeders {
         }
     }
 
+    /// The next entry, counted in (the caller fills it).
     #[inline]
-    fn push(&mut self, f: Feeder) {
-        self.list[self.len] = f;
+    fn next(&mut self) -> &mut Feeder {
         self.len += 1;
+        &mut self.list[self.len - 1]
     }
 }
 
@@ -181,7 +186,7 @@ impl Interface {
     /// Errors: `ray` zero or not finite; `kind` not carried by that side's
     /// medium; `ray` not leaving the interface into `side`
     /// (`σ (ray·N) ≤ 0`).
-    #[inline]
+    #[inline(always)]
     pub fn feeders(
         &self,
         side: Side,
@@ -211,7 +216,7 @@ impl Interface {
     /// no feeders when that wave carries no normal flux: it grazes the
     /// interface, or `t` lies beyond its sheet (evanescent; from a ray
     /// direction this happens only by rounding at grazing).
-    #[inline]
+    #[inline(always)]
     pub fn feeders_tangential(
         &self,
         side: Side,
@@ -225,7 +230,7 @@ impl Interface {
     }
 
     /// The backward query in a given tangent frame.
-    #[inline]
+    #[inline(always)]
     pub fn feeders_in(
         &self,
         side: Side,
@@ -272,10 +277,17 @@ impl Interface {
         result: &mut Feeders,
     ) -> Result<(), InterfaceError> {
         let sheets = self.sheets(frame);
-        // Columns of the boundary matrix from the four outgoing waves; the
-        // propagating ones kept (the target's rows need their flux).
-        let mut system = BoundarySystem::empty();
-        let mut out: [Option<RealWave>; 4] = [None; 4];
+        // Target rows: w's modes among the outgoing waves [+₀, +₁, −₀, −₁].
+        let base = 2 * side.index();
+        let (rows, first) = match kind {
+            WaveKind::Isotropic | WaveKind::Ordinary => (kind.mode_count(), base),
+            WaveKind::Extraordinary => (1, base + 1),
+        };
+        // Columns of the boundary system from the crystal sides' outgoing
+        // waves (an isotropic side facing a crystal needs none: its modes
+        // are eliminated in closed form), and w's own waves.
+        let mut cols = [Column::Unused; 4];
+        let mut target: [Option<RealWave>; 2] = [None; 2];
         for out_side in [Side::Plus, Side::Minus] {
             let medium = self.medium(out_side);
             let si = out_side.index();
@@ -283,103 +295,133 @@ impl Interface {
             match *medium {
                 Medium::Isotropic { n } => {
                     let sheet = &sheets[si][0];
-                    if sheet.propagates() {
-                        let pair = RealWave::isotropic_pair(n, frame, sheet, dir);
-                        for (i, w) in pair.into_iter().enumerate() {
-                            system.set_real(2 * si + i, out_side, tangential_real(frame, w.e, w.h));
-                            out[2 * si + i] = Some(w);
-                        }
-                        continue;
+                    if out_side == side && sheet.propagates() {
+                        let [s, p] = RealWave::isotropic_pair(n, frame, sheet, dir);
+                        target = [Some(s), Some(p)];
                     }
                 }
-                Medium::Uniaxial { .. } => {}
-            }
-            for (i, mode) in Mode::pair_of(medium).into_iter().enumerate() {
-                let sheet = &sheets[si][i];
-                if sheet.propagates() {
-                    let w = RealWave::on_sheet(medium, frame, sheet, mode, dir);
-                    system.set_real(2 * si + i, out_side, tangential_real(frame, w.e, w.h));
-                    out[2 * si + i] = Some(w);
-                } else {
-                    let (_, _, e, h) = evanescent_fields(medium, frame, sheet, mode, dir);
-                    system.set_complex(2 * si + i, out_side, frame, e, h);
+                Medium::Uniaxial { .. } => {
+                    for (i, mode) in [Mode::O, Mode::E].into_iter().enumerate() {
+                        let j = 2 * si + i;
+                        let sheet = &sheets[si][i];
+                        cols[j] = if sheet.propagates() {
+                            let w = RealWave::on_sheet(medium, frame, sheet, mode, dir);
+                            if j >= first && j < first + rows {
+                                target[j - first] = Some(w);
+                            }
+                            Column::Real(tangential_real(frame, w.e, w.h))
+                        } else {
+                            let (_, _, e, h) = evanescent_fields(medium, frame, sheet, mode, dir);
+                            Column::Complex(tangential(frame, e, h))
+                        };
+                    }
                 }
             }
         }
-        // Target rows: indices into `out` of w's modes.
-        let base = 2 * side.index();
-        let (rows, first) = match kind {
-            WaveKind::Isotropic | WaveKind::Ordinary => (kind.mode_count(), base),
-            WaveKind::Extraordinary => (1, base + 1),
-        };
         let w_medium = self.medium(side);
-        let (w0, w_flux) = match out[first] {
-            Some(w) => {
-                let f1 = if rows == 2 {
-                    out[first + 1].map_or(0.0, |w| w.flux())
-                } else {
-                    0.0
-                };
-                (w, [w.flux(), f1])
-            }
-            None => {
-                // w is evanescent (t beyond its sheet, by rounding from a
-                // ray direction): nothing feeds it. Report it as the forward
-                // solver sees it.
-                let wave = |i: usize| {
-                    let mode = Mode::pair_of(w_medium)[i];
-                    let sheet = &sheets[side.index()][i];
-                    Eigenwave::on_sheet(
-                        w_medium,
-                        frame,
-                        sheet,
-                        side,
-                        Travel::Outgoing,
-                        mode,
-                        side.sign(),
-                    )
-                };
-                let w0 = wave(first - base);
-                let w1 = (rows == 2).then(|| wave(1));
-                result.target = basis_of(&w0, w1.as_ref(), kind);
-                return Ok(());
-            }
+        let Some(w0) = target[0] else {
+            // w is evanescent (t beyond its sheet, by rounding from a ray
+            // direction): nothing feeds it. Report it as the forward solver
+            // sees it.
+            let wave = |i: usize| {
+                let mode = Mode::pair_of(w_medium)[i];
+                let sheet = &sheets[side.index()][i];
+                Eigenwave::on_sheet(
+                    w_medium,
+                    frame,
+                    sheet,
+                    side,
+                    Travel::Outgoing,
+                    mode,
+                    side.sign(),
+                )
+            };
+            let w0 = wave(first - base);
+            let w1 = (rows == 2).then(|| wave(1));
+            result.target = basis_of(&w0, w1.as_ref(), kind);
+            return Ok(());
         };
+        let w1 = target[1].filter(|_| rows == 2);
         result.target = WaveBasis {
             side,
             kind,
             k: w0.k,
             ray: w0.ray(w_medium, kind),
-            basis: [
-                w0.e,
-                if rows == 2 {
-                    out[first + 1].map_or(DVec3::ZERO, |w| w.e)
-                } else {
-                    DVec3::ZERO
-                },
-            ],
+            basis: [w0.e, w1.map_or(DVec3::ZERO, |w| w.e)],
         };
+        let w_flux = [w0.flux(), w1.map_or(0.0, |w| w.flux())];
         if w_flux[0] == 0.0 {
             return Ok(());
         }
-        if !system.factor() {
-            return Err(InterfaceError::Singular);
-        }
-        // The block of one incident wave `c` of the candidate: ã of each of
-        // w's modes.
+        let feed = Feed {
+            iface: self,
+            frame,
+            sheets: &sheets,
+            side,
+            rows,
+            first,
+            w_flux,
+            result,
+        };
+        with_system(self, &sheets, &cols, feed).ok_or(InterfaceError::Singular)
+    }
+}
+
+/// The candidates' part of a backward query, once the system is factored:
+/// every propagating incident wave with the target's `t`, and its block.
+struct Feed<'a> {
+    iface: &'a Interface,
+    frame: &'a TangentFrame,
+    sheets: &'a [[Sheet; 2]; 2],
+    /// The target's side, its number of modes, the index of its first mode
+    /// among the outgoing waves, and their fluxes.
+    side: Side,
+    rows: usize,
+    first: usize,
+    w_flux: [f64; 2],
+    result: &'a mut Feeders,
+}
+
+impl WithSystem for Feed<'_> {
+    type Output = ();
+
+    #[inline]
+    fn with<S: Solve>(self, system: &S) {
+        let Feed {
+            iface,
+            frame,
+            sheets,
+            side,
+            rows,
+            first,
+            w_flux,
+            result,
+        } = self;
+        // ã = a sqrt(|F_w| / |F_in|) (see `energy_factor`), with the square
+        // roots of w's fluxes taken once.
+        let sqrt_w = w_flux.map(|f| f.abs().sqrt());
+        // The block column of one incident wave `c` of a candidate: ã into
+        // each of w's modes.
         let block_column = |m: &mut [[Complex64; 2]; 2], c: usize, w: &RealWave, sgn: f64| {
             let v = tangential_real(frame, w.e, w.h);
-            let a = system.solve_real(v.map(|x| x * sgn));
+            let a = system.solve_real_rows(v.map(|x| x * sgn), first, rows);
             let f_in = w.flux();
-            for (r, row) in m.iter_mut().take(rows).enumerate() {
-                row[c] = a[first + r] * energy_factor(w_flux[r], f_in);
+            if f_in != 0.0 {
+                let inv = 1.0 / f_in.abs().sqrt();
+                for r in 0..rows {
+                    m[r][c] = a[r] * (sqrt_w[r] * inv);
+                }
+            } else {
+                for r in 0..rows {
+                    m[r][c] = a[r] * energy_factor(w_flux[r], f_in);
+                }
             }
         };
         for cand_side in [side, side.opposite()] {
-            let medium = self.medium(cand_side);
+            let medium = iface.medium(cand_side);
             let si = cand_side.index();
             // Incoming: energy toward the interface, −σ; on the right-hand
-            // side of the system with the sign −σ (see `BoundarySystem`).
+            // side of the system with the sign −σ (see `Solve`).
             let sigma = cand_side.sign();
             match *medium {
                 Medium::Isotropic { n } => {
@@ -389,23 +431,23 @@ impl Interface {
                     if !sheet.propagates() {
                         continue;
                     }
-                    let pair = RealWave::isotropic_pair(n, frame, sheet, -sigma);
-                    if pair[0].flux() == 0.0 {
+                    let [s, p] = RealWave::isotropic_pair(n, frame, sheet, -sigma);
+                    if s.flux() == 0.0 {
                         continue;
                     }
                     let mut m = [[ZERO; 2]; 2];
-                    block_column(&mut m, 0, &pair[0], -sigma);
-                    block_column(&mut m, 1, &pair[1], -sigma);
-                    result.push(Feeder {
+                    block_column(&mut m, 0, &s, -sigma);
+                    block_column(&mut m, 1, &p, -sigma);
+                    *result.next() = Feeder {
                         wave: WaveBasis {
                             side: cand_side,
                             kind: WaveKind::Isotropic,
-                            k: pair[0].k,
-                            ray: pair[0].ray(medium, WaveKind::Isotropic),
-                            basis: [pair[0].e, pair[1].e],
+                            k: s.k,
+                            ray: s.ray(medium, WaveKind::Isotropic),
+                            basis: [s.e, p.e],
                         },
                         block: Jones { rows, cols: 2, m },
-                    });
+                    };
                 }
                 Medium::Uniaxial { .. } => {
                     for (i, (mode, ck)) in [
@@ -425,7 +467,7 @@ impl Interface {
                         }
                         let mut m = [[ZERO; 2]; 2];
                         block_column(&mut m, 0, &w, -sigma);
-                        result.push(Feeder {
+                        *result.next() = Feeder {
                             wave: WaveBasis {
                                 side: cand_side,
                                 kind: ck,
@@ -434,12 +476,11 @@ impl Interface {
                                 basis: [w.e, DVec3::ZERO],
                             },
                             block: Jones { rows, cols: 1, m },
-                        });
+                        };
                     }
                 }
             }
         }
-        Ok(())
     }
 }
 
@@ -491,16 +532,16 @@ fn isotropic_pair(frame: &TangentFrame, side: Side, n_w: f64, n_x: f64, result: 
     };
     // Reflection feeder: incident on w's side, q = −σ Q_w.
     let f = fresnel_from_normals(n_w, n_x, q_w, q_x);
-    result.push(Feeder {
+    *result.next() = Feeder {
         wave: wave(side, frame.t - n_dir * (sigma * q_w), n_w),
         block: diag(f.rs, f.rp),
-    });
+    };
     // Transmission feeder: incident on the other side (−σ) toward w, q = σ Q_x.
     if dx > 0.0 {
         let f = fresnel_from_normals(n_x, n_w, q_x.re, Complex64::new(q_w, 0.0));
-        result.push(Feeder {
+        *result.next() = Feeder {
             wave: wave(side.opposite(), frame.t + n_dir * (sigma * q_x.re), n_x),
             block: diag(f.ts_energy, f.tp_energy),
-        });
+        };
     }
 }

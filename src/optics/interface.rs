@@ -20,7 +20,7 @@
 //! air it cancels along every closed path (optics.md §4).
 
 use super::fresnel::fresnel_from_normals;
-use super::linalg::{CVec3, Lu4};
+use super::linalg::{CVec3, Lu2, Lu4, Scalar};
 use super::medium::Medium;
 use super::modes::{
     k_from_wave_normal, ray_vector, Eigenwave, Mode, Sheet, Side, TangentFrame, Travel,
@@ -233,7 +233,7 @@ impl Interface {
     /// p share one, computed once).
     #[inline]
     pub(crate) fn sheets(&self, frame: &TangentFrame) -> [[Sheet; 2]; 2] {
-        [Side::Plus, Side::Minus].map(|side| {
+        let pair = |side: Side| {
             let m = self.medium(side);
             let [m0, m1] = Mode::pair_of(m);
             let s0 = Sheet::new(m, m0.kind(), frame);
@@ -243,7 +243,8 @@ impl Interface {
                 Sheet::new(m, m1.kind(), frame)
             };
             [s0, s1]
-        })
+        };
+        [pair(Side::Plus), pair(Side::Minus)]
     }
 
     /// The outgoing waves on precomputed sheets.
@@ -345,8 +346,19 @@ impl Interface {
             -side.sign(),
         );
         let out = self.outgoing_on(frame, &sheets);
-        let system = BoundarySystem::new(frame, &out).ok_or(InterfaceError::Singular)?;
-        let a = system.solve(frame, &incident);
+        let cols = [0, 1, 2, 3].map(|j| Column::of(frame, &out[j]));
+        // Incident on side σ: (+) fields − (−) fields = 0 with the incident
+        // wave on the σ side moves to the right as −σ v_i.
+        let sgn = -incident.side.sign();
+        let rhs = if incident.evanescent {
+            // Not an incident wave the solver builds (they propagate), but
+            // solvable all the same.
+            Column::Complex(tangential(frame, incident.e, incident.h).map(|x| x * sgn))
+        } else {
+            Column::Real(tangential_real(frame, incident.e.re, incident.h.re).map(|x| x * sgn))
+        };
+        let a =
+            with_system(self, &sheets, &cols, SolveOnce(rhs)).ok_or(InterfaceError::Singular)?;
         Ok(Scattering::assemble(incident, out, a))
     }
 
@@ -406,135 +418,346 @@ pub(crate) fn mode_index(mode: Mode) -> usize {
     }
 }
 
-/// The boundary-condition matrix for one tangential component, factored
+/// The tangential components `(E·s, E·u, H·s, H·u)` of one outgoing wave:
+/// a column of the boundary-condition matrix (before its side's sign).
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Column {
+    Real([f64; 4]),
+    Complex([Complex64; 4]),
+    /// Not computed: an isotropic side's waves when the other side is a
+    /// crystal (their columns are known in closed form, see [`Reduced`]).
+    Unused,
+}
+
+impl Column {
+    /// The column of an [`Eigenwave`].
+    #[inline]
+    fn of(frame: &TangentFrame, w: &Eigenwave) -> Column {
+        if w.evanescent {
+            Column::Complex(tangential(frame, w.e, w.h))
+        } else {
+            // A propagating wave's fields are real (zero imaginary parts).
+            Column::Real(tangential_real(frame, w.e.re, w.h.re))
+        }
+    }
+
+    #[inline]
+    fn complex(&self) -> [Complex64; 4] {
+        match *self {
+            Column::Real(v) => v.map(|x| Complex64::new(x, 0.0)),
+            Column::Complex(v) => v,
+            Column::Unused => [Complex64::new(0.0, 0.0); 4],
+        }
+    }
+}
+
+/// The boundary-condition system for one tangential component, factored
 /// once: columns are the outgoing waves `[+₀, +₁, −₀, −₁]`, rows the
 /// tangential components `(E·s, E·u, H·s, H·u)`, side − columns negated so
 /// that `Σ₊ − Σ₋ = −(incident)` expresses continuity.
 ///
-/// Filled column by column ([`BoundarySystem::set_real`],
-/// [`BoundarySystem::set_complex`]) and factored in place. While every
-/// outgoing wave propagates the matrix is real and is factored in real
-/// arithmetic, with bit for bit the results of the complex factorization
-/// (see [`Lu4`]).
+/// Between a crystal and an isotropic medium the isotropic side's two
+/// modes are eliminated in closed form ([`Reduced`]), leaving a 2×2 system
+/// for the crystal's o and e amplitudes; otherwise (two crystals, or two
+/// isotropic media asked for the general solver) the 4×4 matrix is
+/// factored by [`Lu4`] ([`Full`]), in real arithmetic when every wave
+/// propagates. Each kind is its own type, built where it is used
+/// ([`with_system`]): no large value is moved around.
+pub(crate) trait Solve {
+    /// Amplitudes `[+₀, +₁, −₀, −₁]` of the outgoing waves for the
+    /// right-hand side `b` (an incident wave's tangential components times
+    /// `−σ`).
+    fn solve_real(&self, b: [f64; 4]) -> [Complex64; 4];
+    /// The same for a complex right-hand side.
+    fn solve_complex(&self, b: [Complex64; 4]) -> [Complex64; 4];
+
+    /// The amplitudes of outgoing waves `first` and, when `rows` is 2,
+    /// `first + 1` only (0 in place of the second otherwise), for a real
+    /// right-hand side.
+    #[inline]
+    fn solve_real_rows(&self, b: [f64; 4], first: usize, rows: usize) -> [Complex64; 2] {
+        let a = self.solve_real(b);
+        [
+            a[first],
+            if rows == 2 {
+                a[first + 1]
+            } else {
+                Complex64::new(0.0, 0.0)
+            },
+        ]
+    }
+}
+
+/// What to do with the factored system ([`with_system`]).
+pub(crate) trait WithSystem {
+    type Output;
+    fn with<S: Solve>(self, system: &S) -> Self::Output;
+}
+
+/// Factor the boundary system of the outgoing waves' columns `cols` (an
+/// isotropic side's may be [`Column::Unused`] when the other side is a
+/// crystal) and hand it to `user`; `None` when it is singular.
+#[inline]
+pub(crate) fn with_system<W: WithSystem>(
+    iface: &Interface,
+    sheets: &[[Sheet; 2]; 2],
+    cols: &[Column; 4],
+    user: W,
+) -> Option<W::Output> {
+    let iso = match (*iface.medium(Side::Plus), *iface.medium(Side::Minus)) {
+        (Medium::Isotropic { n }, Medium::Uniaxial { .. }) => Some((Side::Plus, n)),
+        (Medium::Uniaxial { .. }, Medium::Isotropic { n }) => Some((Side::Minus, n)),
+        _ => None,
+    };
+    let Some((iso_side, n)) = iso else {
+        let mut lu = Lu4::zero();
+        let mut real = true;
+        for (j, col) in cols.iter().enumerate() {
+            let sgn = if j < 2 { 1.0 } else { -1.0 };
+            match col {
+                Column::Real(v) => {
+                    for (row, x) in v.iter().enumerate() {
+                        lu.set(row, j, x * sgn, 0.0);
+                    }
+                }
+                Column::Complex(v) => {
+                    for (row, x) in v.iter().enumerate() {
+                        lu.set(row, j, x.re * sgn, x.im * sgn);
+                    }
+                    real = false;
+                }
+                Column::Unused => return None,
+            }
+        }
+        return if real {
+            lu.factor_real_in_place()
+                .then(|| user.with(&Full::<true>(&lu)))
+        } else {
+            lu.factor_in_place().then(|| user.with(&Full::<false>(&lu)))
+        };
+    };
+    let c = 2 * iso_side.opposite().index();
+    // The isotropic side's outgoing normal component (both modes).
+    let sheet = &sheets[iso_side.index()][0];
+    let sigma = iso_side.sign();
+    match (cols[c], cols[c + 1]) {
+        (Column::Real(o), Column::Real(e)) if sheet.propagates() => {
+            let (q, _) = sheet.real_root(sigma);
+            let system = Reduced::new(iso_side, n, q, o, e);
+            system.regular().then(|| user.with(&system))
+        }
+        _ => {
+            let (q, _) = sheet.root(sigma);
+            let (o, e) = (cols[c].complex(), cols[c + 1].complex());
+            let system = Reduced::new(iso_side, n, q, o, e);
+            system.regular().then(|| user.with(&system))
+        }
+    }
+}
+
+/// The 4×4 system factored by [`Lu4`]; `REAL` when every column is real
+/// (factored and solved in real arithmetic).
+pub(crate) struct Full<'a, const REAL: bool>(&'a Lu4);
+
+impl Solve for Full<'_, true> {
+    #[inline]
+    fn solve_real(&self, b: [f64; 4]) -> [Complex64; 4] {
+        self.0.solve_real(b).map(|x| Complex64::new(x, 0.0))
+    }
+
+    #[inline]
+    fn solve_complex(&self, b: [Complex64; 4]) -> [Complex64; 4] {
+        let xr = self.0.solve_real(b.map(|z| z.re));
+        let xi = self.0.solve_real(b.map(|z| z.im));
+        [0, 1, 2, 3].map(|i| Complex64::new(xr[i], xi[i]))
+    }
+}
+
+impl Solve for Full<'_, false> {
+    #[inline]
+    fn solve_real(&self, b: [f64; 4]) -> [Complex64; 4] {
+        let (xr, xi) = self.0.solve_parts(b, [0.0; 4]);
+        [0, 1, 2, 3].map(|i| Complex64::new(xr[i], xi[i]))
+    }
+
+    #[inline]
+    fn solve_complex(&self, b: [Complex64; 4]) -> [Complex64; 4] {
+        let (xr, xi) = self.0.solve_parts(b.map(|z| z.re), b.map(|z| z.im));
+        [0, 1, 2, 3].map(|i| Complex64::new(xr[i], xi[i]))
+    }
+}
+
+impl Solve for Reduced<f64> {
+    #[inline]
+    fn solve_real(&self, b: [f64; 4]) -> [Complex64; 4] {
+        self.solve(b).map(|x| Complex64::new(x, 0.0))
+    }
+
+    #[inline]
+    fn solve_real_rows(&self, b: [f64; 4], first: usize, rows: usize) -> [Complex64; 2] {
+        self.rows(b, first, rows).map(|x| Complex64::new(x, 0.0))
+    }
+
+    #[inline]
+    fn solve_complex(&self, b: [Complex64; 4]) -> [Complex64; 4] {
+        let xr = self.solve(b.map(|z| z.re));
+        let xi = self.solve(b.map(|z| z.im));
+        [0, 1, 2, 3].map(|i| Complex64::new(xr[i], xi[i]))
+    }
+}
+
+impl Solve for Reduced<Complex64> {
+    #[inline]
+    fn solve_real(&self, b: [f64; 4]) -> [Complex64; 4] {
+        self.solve(b.map(|x| Complex64::new(x, 0.0)))
+    }
+
+    #[inline]
+    fn solve_complex(&self, b: [Complex64; 4]) -> [Complex64; 4] {
+        self.solve(b)
+    }
+
+    #[inline]
+    fn solve_real_rows(&self, b: [f64; 4], first: usize, rows: usize) -> [Complex64; 2] {
+        self.rows(b.map(|x| Complex64::new(x, 0.0)), first, rows)
+    }
+}
+
+/// One solve, for the right-hand side it holds.
+struct SolveOnce(Column);
+
+impl WithSystem for SolveOnce {
+    type Output = [Complex64; 4];
+    #[inline]
+    fn with<S: Solve>(self, system: &S) -> [Complex64; 4] {
+        match self.0 {
+            Column::Real(b) => system.solve_real(b),
+            Column::Complex(b) => system.solve_complex(b),
+            Column::Unused => [Complex64::new(0.0, 0.0); 4],
+        }
+    }
+}
+
+/// The boundary system between a crystal and an isotropic medium of index
+/// `n`, with the isotropic side's modes eliminated in closed form.
+///
+/// With the conventions of [`super::modes`] (`E_s = s`, `E_p = k × s / n`,
+/// `t = T u`, `k·k = T² + q² = n²`) the outgoing s and p waves of the
+/// isotropic side have the tangential components
+///
+/// ```text
+/// s: (E·s, E·u, H·s, H·u) = (1, 0,   0, q)
+/// p:                        (0, q/n, −n, 0)
+/// ```
+///
+/// (`q` their common normal component, complex when they are evanescent).
+/// Rows 0 and 2 give `a_s` and `a_p` (pivots 1 and −n, never small);
+/// substituting them into rows 3 and 1 leaves, with `C_r = σ_c (a_o O_r +
+/// a_e E_r)` the crystal's part of row `r` and `r = q/n²`,
+///
+/// ```text
+/// C₃ − q C₀ = b₃ − q b₀        C₁ + r C₂ = b₁ + r b₂
+/// ```
+///
+/// a 2×2 system for `a_o`, `a_e`; then `σ_i a_s = b₀ − C₀` and
+/// `σ_i a_p = (C₂ − b₂)/n`. This is Gaussian elimination with those two
+/// pivots, whose multipliers `q` and `q/n²` are bounded by the indices, so
+/// it is as stable as the pivoted 4×4 factorization, at a fraction of the
+/// work.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct BoundarySystem {
-    lu: Lu4,
-    /// Every column is real.
-    real: bool,
+pub(crate) struct Reduced<T> {
+    /// The isotropic side and its index.
+    iso: Side,
+    n: f64,
+    /// Normal component of the isotropic side's outgoing waves, and q/n².
+    q: T,
+    r: T,
+    /// Tangential components of the crystal's outgoing o and e waves.
+    o: [T; 4],
+    e: [T; 4],
+    lu: Lu2<T>,
+}
+
+impl<T: Scalar> Reduced<T> {
+    /// The system, factored; check [`Reduced::regular`] before solving.
+    #[inline]
+    fn new(iso: Side, n: f64, q: T, o: [T; 4], e: [T; 4]) -> Reduced<T> {
+        let sigma_c = iso.opposite().sign();
+        let r = q * (1.0 / (n * n));
+        let m = [
+            [(o[3] - q * o[0]) * sigma_c, (e[3] - q * e[0]) * sigma_c],
+            [(o[1] + r * o[2]) * sigma_c, (e[1] + r * e[2]) * sigma_c],
+        ];
+        Reduced {
+            iso,
+            n,
+            q,
+            r,
+            o,
+            e,
+            lu: Lu2::factor(m),
+        }
+    }
+
+    /// False when the system is singular to working precision.
+    #[inline]
+    fn regular(&self) -> bool {
+        self.lu.regular()
+    }
+
+    /// Amplitudes `[+₀, +₁, −₀, −₁]` for the right-hand side `b`.
+    #[inline]
+    fn solve(&self, b: [T; 4]) -> [T; 4] {
+        let [a_o, a_e] = self.crystal(b);
+        let [a_s, a_p] = self.isotropic(b, [a_o, a_e]);
+        match self.iso {
+            Side::Plus => [a_s, a_p, a_o, a_e],
+            Side::Minus => [a_o, a_e, a_s, a_p],
+        }
+    }
+
+    /// [`Solve::solve_real_rows`].
+    #[inline]
+    fn rows(&self, b: [T; 4], first: usize, rows: usize) -> [T; 2] {
+        let crystal = self.crystal(b);
+        let c = 2 * self.iso.opposite().index();
+        if first >= c && first < c + 2 {
+            match (first - c, rows) {
+                (0, 2) => crystal,
+                (i, _) => [crystal[i], T::ZERO],
+            }
+        } else {
+            self.isotropic(b, crystal)
+        }
+    }
+
+    /// The crystal's amplitudes `[a_o, a_e]`.
+    #[inline]
+    fn crystal(&self, b: [T; 4]) -> [T; 2] {
+        self.lu.solve([b[3] - self.q * b[0], b[1] + self.r * b[2]])
+    }
+
+    /// The isotropic side's amplitudes `[a_s, a_p]` given the crystal's.
+    #[inline]
+    fn isotropic(&self, b: [T; 4], [a_o, a_e]: [T; 2]) -> [T; 2] {
+        let (o, e) = (&self.o, &self.e);
+        let sigma_i = self.iso.sign();
+        let sigma_c = -sigma_i;
+        let c0 = (o[0] * a_o + e[0] * a_e) * sigma_c;
+        let c2 = (o[2] * a_o + e[2] * a_e) * sigma_c;
+        [(b[0] - c0) * sigma_i, (c2 - b[2]) * (sigma_i / self.n)]
+    }
 }
 
 /// Tangential components `(E·s, E·u, H·s, H·u)` of complex fields.
 #[inline]
-fn tangential(frame: &TangentFrame, e: CVec3, h: CVec3) -> [Complex64; 4] {
+pub(crate) fn tangential(frame: &TangentFrame, e: CVec3, h: CVec3) -> [Complex64; 4] {
     [
         e.dot_real(frame.s),
         e.dot_real(frame.u),
         h.dot_real(frame.s),
         h.dot_real(frame.u),
     ]
-}
-
-impl BoundarySystem {
-    /// The system of the outgoing waves `out`, factored; `None` when it is
-    /// singular.
-    #[inline]
-    pub(crate) fn new(frame: &TangentFrame, out: &[Eigenwave; 4]) -> Option<BoundarySystem> {
-        let mut system = BoundarySystem::empty();
-        for (j, w) in out.iter().enumerate() {
-            if w.evanescent {
-                system.set_complex(j, w.side, frame, w.e, w.h);
-            } else {
-                // A propagating wave's fields are real (zero imaginary
-                // parts).
-                system.set_real(j, w.side, tangential_real(frame, w.e.re, w.h.re));
-            }
-        }
-        system.factor().then_some(system)
-    }
-
-    /// A zero matrix to fill.
-    #[inline]
-    pub(crate) fn empty() -> BoundarySystem {
-        BoundarySystem {
-            lu: Lu4::zero(),
-            real: true,
-        }
-    }
-
-    /// Column `j` from the real tangential components `v` of a wave on
-    /// `side`.
-    #[inline]
-    pub(crate) fn set_real(&mut self, j: usize, side: Side, v: [f64; 4]) {
-        let sgn = side.sign();
-        for (row, x) in v.iter().enumerate() {
-            self.lu.set(row, j, x * sgn, 0.0);
-        }
-    }
-
-    /// Column `j` from the complex fields `E`, `H` of a wave on `side`.
-    #[inline]
-    pub(crate) fn set_complex(
-        &mut self,
-        j: usize,
-        side: Side,
-        frame: &TangentFrame,
-        e: CVec3,
-        h: CVec3,
-    ) {
-        let sgn = side.sign();
-        let v = tangential(frame, e, h);
-        for (row, x) in v.iter().enumerate() {
-            self.lu.set(row, j, x.re * sgn, x.im * sgn);
-        }
-        self.real = false;
-    }
-
-    /// Factor the filled matrix in place (in real arithmetic when it is
-    /// real); false when it is singular.
-    #[inline]
-    pub(crate) fn factor(&mut self) -> bool {
-        if self.real {
-            self.lu.factor_real_in_place()
-        } else {
-            self.lu.factor_in_place()
-        }
-    }
-
-    /// Amplitudes `[+₀, +₁, −₀, −₁]` of the outgoing waves for an incident
-    /// wave of unit amplitude.
-    #[inline]
-    pub(crate) fn solve(&self, frame: &TangentFrame, incident: &Eigenwave) -> [Complex64; 4] {
-        // Incident on side σ: (+) fields − (−) fields = 0 with the incident
-        // wave on the σ side moves to the right as −σ v_i.
-        let sgn = -incident.side.sign();
-        if incident.evanescent {
-            // Not an incident wave the solver builds (they propagate), but
-            // solvable all the same.
-            let b = tangential(frame, incident.e, incident.h).map(|x| x * sgn);
-            let (b_re, b_im) = (b.map(|z| z.re), b.map(|z| z.im));
-            let (xr, xi) = if self.real {
-                (self.lu.solve_real(b_re), self.lu.solve_real(b_im))
-            } else {
-                self.lu.solve_parts(b_re, b_im)
-            };
-            [0, 1, 2, 3].map(|i| Complex64::new(xr[i], xi[i]))
-        } else {
-            let v = tangential_real(frame, incident.e.re, incident.h.re);
-            self.solve_real(v.map(|x| x * sgn))
-        }
-    }
-
-    /// Amplitudes for the real right-hand side `b` (a propagating incident
-    /// wave's tangential components times `−σ`).
-    #[inline]
-    pub(crate) fn solve_real(&self, b: [f64; 4]) -> [Complex64; 4] {
-        if self.real {
-            self.lu.solve_real(b).map(|x| Complex64::new(x, 0.0))
-        } else {
-            let (xr, xi) = self.lu.solve_parts(b, [0.0; 4]);
-            [0, 1, 2, 3].map(|i| Complex64::new(xr[i], xi[i]))
-        }
-    }
 }
 
 /// Tangential components `(E·s, E·u, H·s, H·u)` of real fields.

@@ -360,6 +360,119 @@ impl Lu4 {
     }
 }
 
+/// A real or complex scalar, for solvers written once for both.
+pub trait Scalar:
+    Copy
+    + std::fmt::Debug
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Mul<f64, Output = Self>
+{
+    const ZERO: Self;
+    /// `|x|²`.
+    fn norm_sqr(self) -> f64;
+    /// As a complex number.
+    fn complex(self) -> Complex64;
+    /// `1/x`.
+    fn recip(self) -> Self;
+}
+
+impl Scalar for f64 {
+    const ZERO: f64 = 0.0;
+
+    #[inline]
+    fn norm_sqr(self) -> f64 {
+        self * self
+    }
+
+    #[inline]
+    fn complex(self) -> Complex64 {
+        Complex64::new(self, 0.0)
+    }
+
+    #[inline]
+    fn recip(self) -> f64 {
+        1.0 / self
+    }
+}
+
+impl Scalar for Complex64 {
+    const ZERO: Complex64 = Complex64::new(0.0, 0.0);
+
+    #[inline]
+    fn norm_sqr(self) -> f64 {
+        Complex64::norm_sqr(&self)
+    }
+
+    #[inline]
+    fn complex(self) -> Complex64 {
+        self
+    }
+
+    #[inline]
+    fn recip(self) -> Complex64 {
+        self.inv()
+    }
+}
+
+/// LU factorization of a 2×2 matrix with partial pivoting.
+#[derive(Clone, Copy, Debug)]
+pub struct Lu2<T> {
+    /// The rows were swapped.
+    swap: bool,
+    /// `U = [[u00, u01], [0, u11]]`, `L = [[1, 0], [l10, 1]]`; the pivots
+    /// are stored inverted.
+    inv_u00: T,
+    u01: T,
+    l10: T,
+    inv_u11: T,
+    /// Both pivots are non-zero and finite.
+    regular: bool,
+}
+
+impl<T: Scalar> Lu2<T> {
+    /// Factor `m` (`m[row][col]`). Check [`Lu2::regular`] before solving:
+    /// false when a pivot is exactly zero or not finite (singular to
+    /// working precision, as [`Lu4::factor`]).
+    #[inline]
+    pub fn factor(m: [[T; 2]; 2]) -> Lu2<T> {
+        let swap = m[1][0].norm_sqr() > m[0][0].norm_sqr();
+        let (r0, r1) = if swap { (m[1], m[0]) } else { (m[0], m[1]) };
+        let inv_u00 = r0[0].recip();
+        let l10 = r1[0] * inv_u00;
+        let u11 = r1[1] - l10 * r0[1];
+        let (p0, p1) = (r0[0].norm_sqr(), u11.norm_sqr());
+        Lu2 {
+            swap,
+            inv_u00,
+            u01: r0[1],
+            l10,
+            inv_u11: u11.recip(),
+            regular: p0 != 0.0 && p0.is_finite() && p1 != 0.0 && p1.is_finite(),
+        }
+    }
+
+    /// Both pivots are non-zero and finite.
+    #[inline]
+    pub fn regular(&self) -> bool {
+        self.regular
+    }
+
+    /// Solve `M x = b`.
+    #[inline]
+    pub fn solve(&self, b: [T; 2]) -> [T; 2] {
+        let (b0, b1) = if self.swap {
+            (b[1], b[0])
+        } else {
+            (b[0], b[1])
+        };
+        let x1 = (b1 - self.l10 * b0) * self.inv_u11;
+        let x0 = (b0 - self.u01 * x1) * self.inv_u00;
+        [x0, x1]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -321,6 +321,9 @@ pub struct Sheet {
     pub c: f64,
     pub disc: f64,
     pub g_scale: f64,
+    /// `√|Δ|` and `1/A`, shared by the sheet's two roots.
+    sqrt_disc: f64,
+    inv_a: f64,
 }
 
 impl Sheet {
@@ -330,13 +333,13 @@ impl Sheet {
     pub fn new(medium: &Medium, kind: WaveKind, frame: &TangentFrame) -> Sheet {
         match (*medium, kind) {
             (Medium::Isotropic { n }, _)
-            | (Medium::Uniaxial { n_o: n, .. }, WaveKind::Ordinary) => Sheet {
-                a: 1.0,
-                beta: 0.0,
-                c: frame.tt - n * n,
-                disc: frame.n2_minus_tt(n),
-                g_scale: 1.0 / (n * n),
-            },
+            | (Medium::Uniaxial { n_o: n, .. }, WaveKind::Ordinary) => Sheet::from_parts(
+                1.0,
+                0.0,
+                frame.tt - n * n,
+                frame.n2_minus_tt(n),
+                1.0 / (n * n),
+            ),
             (Medium::Uniaxial { n_o, n_e, axis }, _) => {
                 // Plain f64 first: where |Δ| exceeds its terms' magnitude
                 // times FAST_DISC_MARGIN, f64 rounding (≈ 10 ε of that
@@ -351,13 +354,13 @@ impl Sheet {
                 let inner = no2 * (ne2 - tt) - d * (b2 + a2 * tt - a2 * ne2);
                 let scale = no2 * (ne2 + tt) + d.abs() * (b2 + a2 * tt + a2 * ne2);
                 if inner.abs() > FAST_DISC_MARGIN * scale {
-                    return Sheet {
-                        a: no2 + d * a2,
-                        beta: d * a * b,
-                        c: no2 * tt + d * b * b - no2 * ne2,
-                        disc: inner * no2,
-                        g_scale: 1.0 / (no2 * ne2),
-                    };
+                    return Sheet::from_parts(
+                        no2 + d * a2,
+                        d * a * b,
+                        no2 * tt + d * b * b - no2 * ne2,
+                        inner * no2,
+                        1.0 / (no2 * ne2),
+                    );
                 }
                 let no2 = Dd::prod(n_o, n_o);
                 let ne2 = Dd::prod(n_e, n_e);
@@ -375,14 +378,28 @@ impl Sheet {
                 let inner = no2
                     .mul_dd(ne2.sub(tt))
                     .sub(delta.mul_dd(b2.add(a2.mul_dd(tt)).sub(a2.mul_dd(ne2))));
-                Sheet {
-                    a: big_a,
+                Sheet::from_parts(
+                    big_a,
                     beta,
                     c,
-                    disc: inner.value() * no2.hi,
-                    g_scale: 1.0 / (no2.hi * ne2.hi),
-                }
+                    inner.value() * no2.hi,
+                    1.0 / (no2.hi * ne2.hi),
+                )
             }
+        }
+    }
+
+    /// The sheet `A q² + 2 β q + C = 0` with `Δ = disc`.
+    #[inline]
+    fn from_parts(a: f64, beta: f64, c: f64, disc: f64, g_scale: f64) -> Sheet {
+        Sheet {
+            a,
+            beta,
+            c,
+            disc,
+            g_scale,
+            sqrt_disc: disc.abs().sqrt(),
+            inv_a: 1.0 / a,
         }
     }
 
@@ -396,12 +413,12 @@ impl Sheet {
     /// arithmetic.
     #[inline]
     pub(crate) fn real_root(&self, dir: f64) -> (f64, f64) {
-        let r = dir * self.disc.sqrt();
+        let r = dir * self.sqrt_disc;
         // q = (−β + r)/A. `q` enters `k = t + q N` additively, so what
         // matters is its absolute error, ε (|β| + |r|)/A = O(ε n): the
         // "stable" small-root form C/(−β − r) would be worse here (C is
         // a cancelling O(1) sum, error ε/|β + r| when β is small).
-        ((r - self.beta) / self.a, r * self.g_scale)
+        ((r - self.beta) * self.inv_a, r * self.g_scale)
     }
 
     /// The root whose energy flows along `dir · N` (`dir = ±1`), and its
@@ -414,7 +431,7 @@ impl Sheet {
             let (q, g_n) = self.real_root(dir);
             (Complex64::new(q, 0.0), g_n)
         } else {
-            let q = Complex64::new(-self.beta, dir * (-self.disc).sqrt()) / self.a;
+            let q = Complex64::new(-self.beta, dir * self.sqrt_disc) * self.inv_a;
             (q, 0.0)
         }
     }
@@ -655,13 +672,11 @@ pub(crate) fn evanescent_fields(
 }
 
 /// A propagating wave (`Δ ≥ 0`, real `q`) in real arithmetic: what the
-/// boundary solve and the backward query need of it.
-///
-/// Every number equals, bit for bit, the real part the complex formulas of
-/// [`Eigenwave`] produce for the same wave (their imaginary parts are all
-/// zero, and each complex product then reduces to the same real product:
-/// `x − 0·0 = x` exactly), so forward solves and backward queries agree to
-/// the last bit whichever representation they use.
+/// boundary solve and the backward query need of it. [`Eigenwave`] takes
+/// its propagating waves from here, so forward solves and backward queries
+/// see the same numbers; the formulas are the module's, with the divisions
+/// by indices folded into the sheet's `g_scale` where a vector is
+/// normalized afterwards anyway.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct RealWave {
     /// Normal component of `k`.
@@ -674,6 +689,8 @@ pub(crate) struct RealWave {
     pub h: DVec3,
     /// `g·N` of the root ([`Sheet::root`]).
     pub g_n: f64,
+    /// The sheet's `g_scale` (`1/n²`, or `1/(n_o² n_e²)`).
+    pub g_scale: f64,
 }
 
 impl RealWave {
@@ -689,13 +706,14 @@ impl RealWave {
     ) -> RealWave {
         let (q, g_n) = sheet.real_root(dir);
         let k = frame.t + frame.normal * q;
-        let e = field_real(medium, frame, mode, k);
+        let e = field_real(medium, frame, sheet, mode, k);
         RealWave {
             q,
             k,
             e,
             h: k.cross(e),
             g_n,
+            g_scale: sheet.g_scale,
         }
     }
 
@@ -711,13 +729,15 @@ impl RealWave {
         let (q, g_n) = sheet.real_root(dir);
         let k = frame.t + frame.normal * q;
         let s = frame.s;
-        let p = k.cross(s) * (1.0 / n);
+        // p = k × s / n, with 1/n = n · (1/n²).
+        let p = k.cross(s) * (n * sheet.g_scale);
         [s, p].map(|e| RealWave {
             q,
             k,
             e,
             h: k.cross(e),
             g_n,
+            g_scale: sheet.g_scale,
         })
     }
 
@@ -728,10 +748,21 @@ impl RealWave {
         0.5 * self.h.length_squared() * self.g_n
     }
 
-    /// Unit ray (energy) direction.
+    /// Unit ray (energy) direction: that of `M k` ([`ray_vector`]), `k`
+    /// itself for an isotropic or ordinary wave, and
+    /// `n_e² M k = k + (n_e² − n_o²)/n_o² (k·c) c` for the extraordinary
+    /// one.
     #[inline]
     pub(crate) fn ray(&self, medium: &Medium, kind: WaveKind) -> DVec3 {
-        ray_vector(medium, kind, self.k).normalize()
+        match (*medium, kind) {
+            (Medium::Uniaxial { n_o, n_e, axis }, WaveKind::Extraordinary) => {
+                let ne2 = n_e * n_e;
+                // (n_e² − n_o²)/n_o² = (n_e² − n_o²) n_e² · g_scale.
+                let c = (ne2 - n_o * n_o) * ne2 * self.g_scale;
+                (self.k + axis * (self.k.dot(axis) * c)).normalize()
+            }
+            _ => self.k.normalize(),
+        }
     }
 }
 
@@ -778,9 +809,12 @@ fn field(medium: &Medium, frame: &TangentFrame, mode: Mode, k: CVec3) -> CVec3 {
     }
 }
 
-/// [`field`] for a real wave vector, in real arithmetic (the same numbers).
+/// [`field`] for a real wave vector on `sheet`, in real arithmetic. The
+/// extraordinary field is normalized after `ε⁻¹` is applied, so it is
+/// computed as `n_o² ε⁻¹ D = D − (n_e² − n_o²)/n_e² (c·D) c` with the
+/// sheet's `g_scale = 1/(n_o² n_e²)` (no division).
 #[inline]
-fn field_real(medium: &Medium, frame: &TangentFrame, mode: Mode, k: DVec3) -> DVec3 {
+fn field_real(medium: &Medium, frame: &TangentFrame, sheet: &Sheet, mode: Mode, k: DVec3) -> DVec3 {
     let unit_or = |v: DVec3, scale2: f64, fallback: DVec3| {
         let l2 = v.length_squared();
         if l2 > AXIS_TOL_SQUARED * scale2 && l2.is_finite() {
@@ -791,15 +825,25 @@ fn field_real(medium: &Medium, frame: &TangentFrame, mode: Mode, k: DVec3) -> DV
     };
     match (*medium, mode) {
         (Medium::Isotropic { .. }, Mode::S) => frame.s,
-        (Medium::Isotropic { n }, _) => k.cross(frame.s) * (1.0 / n),
+        // 1/n = n · (1/n²).
+        (Medium::Isotropic { n }, _) => k.cross(frame.s) * (n * sheet.g_scale),
         (Medium::Uniaxial { axis, .. }, Mode::O) => {
             unit_or(k.cross(axis), k.length_squared(), frame.s)
         }
         (Medium::Uniaxial { n_o, n_e, axis }, _) => {
-            let e_o = unit_or(k.cross(axis), k.length_squared(), frame.s);
+            // D ∥ k × E_o; E is normalized below, so E_o need not be.
+            let v = k.cross(axis);
+            let l2 = v.length_squared();
+            let e_o = if l2 > AXIS_TOL_SQUARED * k.length_squared() && l2.is_finite() {
+                v
+            } else {
+                frame.s
+            };
             let d = k.cross(e_o);
-            let kappa = 1.0 / (n_o * n_o) - 1.0 / (n_e * n_e);
-            let e = d * (1.0 / (n_o * n_o)) - axis * (d.dot(axis) * kappa);
+            let no2 = n_o * n_o;
+            // (n_e² − n_o²)/n_e² = (n_e² − n_o²) n_o² · g_scale.
+            let c = (n_e * n_e - no2) * no2 * sheet.g_scale;
+            let e = d - axis * (d.dot(axis) * c);
             e * (1.0 / e.length_squared().sqrt())
         }
     }
