@@ -32,6 +32,7 @@ use crate::accel::{Intersector, Ray};
 use crate::optics::backward::Feeders;
 use crate::optics::modes::{Side, WaveKind};
 use crate::optics::{Coherence, Interface, Jones, Medium};
+use crate::render::sampling::{dim, SampleKey};
 use crate::scene::Scene;
 use glam::DVec3;
 
@@ -73,8 +74,10 @@ impl std::ops::AddAssign for Stats {
     }
 }
 
-/// Everything about one wavelength that does not change per ray: the media
-/// of every object.
+/// Everything about one wavelength that does not change per ray: the
+/// wavelength whose emission is gathered, and the media of every object
+/// (evaluated at `lambda_nm`, or at another wavelength when dispersion is
+/// switched off).
 #[derive(Clone, Debug)]
 pub struct WavelengthMedia {
     pub lambda_nm: f64,
@@ -82,7 +85,15 @@ pub struct WavelengthMedia {
 }
 
 impl WavelengthMedia {
+    /// Emission and media at `lambda_nm`.
     pub fn new(scene: &Scene, lambda_nm: f64) -> WavelengthMedia {
+        WavelengthMedia::with_geometry_at(scene, lambda_nm, lambda_nm)
+    }
+
+    /// Emission at `lambda_nm`, media (and so every path) at
+    /// `geometry_nm`: the "dispersion off" approximation, and the exact
+    /// description of a scene whose indices do not depend on wavelength.
+    pub fn with_geometry_at(scene: &Scene, lambda_nm: f64, geometry_nm: f64) -> WavelengthMedia {
         WavelengthMedia {
             lambda_nm,
             objects: scene
@@ -90,7 +101,7 @@ impl WavelengthMedia {
                 .iter()
                 .map(|o| {
                     o.material
-                        .medium(lambda_nm, o.material.axis().unwrap_or(DVec3::ZERO))
+                        .medium(geometry_nm, o.material.axis().unwrap_or(DVec3::ZERO))
                 })
                 .collect(),
         }
@@ -107,11 +118,47 @@ pub struct TreeSettings {
     pub prune: f64,
 }
 
+/// How a node treats its feeders.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Branching {
+    /// Every feeder is traced: the exact tree (up to depth and pruning).
+    #[default]
+    Full,
+    /// One feeder is traced, chosen with probability proportional to the
+    /// most energy its Jones block can pass, its contribution divided by
+    /// that probability: unbiased, noisy, one path per camera ray.
+    Stochastic,
+    /// The full tree for the first `full_depth` interactions, one sampled
+    /// feeder per node below.
+    Hybrid { full_depth: u32 },
+}
+
+/// What the tree carries.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum PolarizationModel {
+    /// Coherence matrices (2×2 in isotropic media, intensities of
+    /// eigenwaves in crystals): the physics.
+    #[default]
+    Full,
+    /// Intensities only, every wave treated as unpolarized: each Jones block
+    /// T passes ‖T‖²_F / (its input modes) of the intensity. An
+    /// approximation whose error is measured, never chosen silently.
+    Scalar,
+}
+
+/// The integrator's strategy (defaults: the exact full tree).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Strategy {
+    pub branching: Branching,
+    pub polarization: PolarizationModel,
+}
+
 /// Traces backward trees through one scene.
 pub struct Tracer<'a> {
     scene: &'a Scene,
     accel: &'a dyn Intersector,
     settings: TreeSettings,
+    strategy: Strategy,
     /// Offset of secondary ray origins from the surface, in scene units.
     epsilon: f64,
 }
@@ -125,7 +172,11 @@ struct Query {
     region: Region,
     kind: WaveKind,
     depth: u32,
+    /// Product of the gains along the path (the bound pruning tests).
     throughput: f64,
+    /// Which branch of the full part of the tree this is (for random
+    /// numbers that differ between sibling subtrees).
+    path: u64,
 }
 
 /// Largest squared singular value of a Jones block: the most intensity it
@@ -142,6 +193,12 @@ fn max_gain(t: &Jones) -> f64 {
         .map(|r| t.m[r][0].conj() * t.m[r][1])
         .sum::<num_complex::Complex64>();
     0.5 * (a + d) + (0.25 * (a - d) * (a - d) + b.norm_sqr()).sqrt()
+}
+
+/// Intensity a block passes from unpolarized light: ‖T‖²_F / cols.
+#[inline]
+fn unpolarized_gain(t: &Jones) -> f64 {
+    t.norm_sqr() / t.cols as f64
 }
 
 impl<'a> Tracer<'a> {
@@ -161,15 +218,23 @@ impl<'a> Tracer<'a> {
             scene,
             accel,
             settings,
+            strategy: Strategy::default(),
             // Embree works in f32: hit points are good to a few 1e-7 of the
             // scene's extent; step well clear of that.
             epsilon: 1e-5 * extent.max(1e-30),
         }
     }
 
+    /// The same tracer with another strategy.
+    pub fn with_strategy(mut self, strategy: Strategy) -> Tracer<'a> {
+        self.strategy = strategy;
+        self
+    }
+
     /// The coherence matrix, in the basis `basis` (two unit vectors
     /// transverse to `dir`), of the light arriving at `origin` along `−dir`
-    /// in air: a camera ray.
+    /// in air: a camera ray at one wavelength, with the full tree (a
+    /// sampled strategy uses sample key 0 here; see [`Self::trace_camera`]).
     pub fn camera_ray(
         &self,
         origin: DVec3,
@@ -178,6 +243,46 @@ impl<'a> Tracer<'a> {
         media: &WavelengthMedia,
         stats: &mut Stats,
     ) -> Coherence {
+        let key = SampleKey {
+            seed: 0,
+            pixel: 0,
+            sample: 0,
+        };
+        let mut out = [Coherence::zero(2)];
+        self.trace_camera(
+            origin,
+            dir,
+            basis,
+            std::slice::from_ref(media),
+            &key,
+            &mut out,
+            stats,
+        );
+        out[0]
+    }
+
+    /// A camera ray for a batch of wavelengths that share their geometry
+    /// (every entry of `batch` has the same media, as in a scene without
+    /// dispersion or with dispersion switched off): the tree is traced once
+    /// and every leaf is evaluated at every wavelength. `out[i]` receives
+    /// the coherence matrix at `batch[i].lambda_nm` in `basis`. `key` names
+    /// the random numbers of sampled strategies.
+    #[allow(clippy::too_many_arguments)]
+    pub fn trace_camera(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        basis: [DVec3; 2],
+        batch: &[WavelengthMedia],
+        key: &SampleKey,
+        out: &mut [Coherence],
+        stats: &mut Stats,
+    ) {
+        assert_eq!(batch.len(), out.len());
+        debug_assert!(
+            batch.iter().all(|m| m.objects == batch[0].objects),
+            "a batch must share its geometry"
+        );
         let q = Query {
             origin,
             dir,
@@ -185,8 +290,12 @@ impl<'a> Tracer<'a> {
             kind: WaveKind::Isotropic,
             depth: 0,
             throughput: 1.0,
+            path: 0,
         };
-        self.radiance(&q, &basis, media, stats)
+        // One slot of `batch` matrices per level of the tree below the root.
+        let mut scratch =
+            vec![Coherence::zero(1); batch.len() * (self.settings.max_depth as usize + 1)];
+        self.radiance(&q, &basis, batch, key, out, &mut scratch, stats);
     }
 
     fn medium_of(&self, region: Region, media: &WavelengthMedia) -> Medium {
@@ -196,16 +305,25 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    /// The light of `q`'s wave in `basis` (ignored for a one-mode wave).
+    /// Fills `out` (one entry per wavelength of `batch`) with the light of
+    /// `q`'s wave in `basis` (ignored for a one-mode wave). `scratch` holds
+    /// the results of the levels below: a child writes into its first
+    /// `batch.len()` entries and recurses with the rest.
+    #[allow(clippy::too_many_arguments)]
     fn radiance(
         &self,
         q: &Query,
         basis: &[DVec3; 2],
-        media: &WavelengthMedia,
+        batch: &[WavelengthMedia],
+        key: &SampleKey,
+        out: &mut [Coherence],
+        scratch: &mut [Coherence],
         stats: &mut Stats,
-    ) -> Coherence {
+    ) {
         stats.rays += 1;
         let modes = q.kind.mode_count();
+        let zero = |out: &mut [Coherence]| out.iter_mut().for_each(|o| *o = Coherence::zero(modes));
+        let scalar = self.strategy.polarization == PolarizationModel::Scalar;
         let ray = Ray::new(q.origin, q.dir);
         let hit = self.accel.intersect(&ray);
         let t_hit = hit.map_or(f64::INFINITY, |h| h.t);
@@ -221,28 +339,34 @@ impl<'a> Tracer<'a> {
                 }
             }
             if let Some((_, i, s, tt)) = best {
-                return self.scene.lights[i].emitted(
-                    s,
-                    tt,
-                    media.lambda_nm,
-                    -q.dir,
-                    basis[0],
-                    basis[1],
-                );
+                let light = &self.scene.lights[i];
+                for (o, m) in out.iter_mut().zip(batch) {
+                    let j = light.emitted(s, tt, m.lambda_nm, -q.dir, basis[0], basis[1]);
+                    *o = if scalar {
+                        Coherence::unpolarized(j.intensity())
+                    } else {
+                        j
+                    };
+                }
+                return;
             }
             if hit.is_none() {
-                let l = self.scene.background * crate::spectrum::cie::d65(media.lambda_nm);
-                return Coherence::unpolarized(l);
+                for (o, m) in out.iter_mut().zip(batch) {
+                    *o = Coherence::unpolarized(
+                        self.scene.background * crate::spectrum::cie::d65(m.lambda_nm),
+                    );
+                }
+                return;
             }
         }
         let Some(hit) = hit else {
             // Inside a closed mesh every ray must hit it again.
             stats.lost += 1;
-            return Coherence::zero(modes);
+            return zero(out);
         };
         if q.depth >= self.settings.max_depth {
             stats.depth_cut += 1;
-            return Coherence::zero(modes);
+            return zero(out);
         }
         let object = hit.geom;
         let outward = self.scene.objects[object as usize]
@@ -255,7 +379,7 @@ impl<'a> Tracer<'a> {
             Region::Inside(_) => {
                 // Objects must not overlap or touch.
                 stats.lost += 1;
-                return Coherence::zero(modes);
+                return zero(out);
             }
         };
         let leaving = -q.dir;
@@ -263,26 +387,80 @@ impl<'a> Tracer<'a> {
             // Met the facet from its far side (a grazing ray at an edge):
             // no outgoing wave on our side to feed.
             stats.lost += 1;
-            return Coherence::zero(modes);
+            return zero(out);
         }
+        let media = &batch[0];
         let Ok(iface) = Interface::new(
             normal,
             self.medium_of(q.region, media),
             self.medium_of(other, media),
         ) else {
             stats.lost += 1;
-            return Coherence::zero(modes);
+            return zero(out);
         };
         let Ok(feeders): Result<Feeders, _> = iface.feeders(Side::Plus, q.kind, leaving) else {
             stats.lost += 1;
-            return Coherence::zero(modes);
+            return zero(out);
         };
         stats.nodes += 1;
         let point = ray.at(hit.t);
         let target = feeders.target;
-        let mut sum = Coherence::zero(target.modes());
-        for f in feeders.as_slice() {
-            let throughput = q.throughput * max_gain(&f.block);
+        let list = feeders.as_slice();
+        let gains: [f64; 4] = std::array::from_fn(|i| {
+            list.get(i).map_or(0.0, |f| {
+                if scalar {
+                    unpolarized_gain(&f.block)
+                } else {
+                    max_gain(&f.block)
+                }
+            })
+        });
+
+        // Which feeders to follow, each with the weight its contribution
+        // gets: all with weight 1, or one sampled with weight 1/p.
+        let sampled = match self.strategy.branching {
+            Branching::Full => false,
+            Branching::Stochastic => true,
+            Branching::Hybrid { full_depth } => q.depth >= full_depth,
+        };
+        let total: f64 = gains.iter().sum();
+        let mut chosen: [(usize, f64); 4] = [(0, 0.0); 4];
+        let mut n_chosen = 0;
+        if sampled {
+            if total > 0.0 {
+                let u = key.uniform_at(dim::BRANCH + q.depth, q.path) * total;
+                let mut acc = 0.0;
+                let mut pick = list.len() - 1;
+                for (i, g) in gains.iter().enumerate().take(list.len()) {
+                    acc += g;
+                    if u < acc {
+                        pick = i;
+                        break;
+                    }
+                }
+                // Never pick a feeder that cannot pass anything.
+                while gains[pick] == 0.0 && pick > 0 {
+                    pick -= 1;
+                }
+                chosen[0] = (pick, total / gains[pick]);
+                n_chosen = 1;
+            }
+        } else {
+            for i in 0..list.len() {
+                chosen[n_chosen] = (i, 1.0);
+                n_chosen += 1;
+            }
+        }
+
+        let n = out.len();
+        for o in out.iter_mut() {
+            *o = Coherence::zero(target.modes());
+        }
+        for &(i, weight) in &chosen[..n_chosen] {
+            let f = &list[i];
+            // Pruning looks at the path's physical throughput, whatever the
+            // sampling weight, so every strategy cuts the same subtrees.
+            let throughput = q.throughput * gains[i];
             if throughput < self.settings.prune {
                 stats.pruned += 1;
                 continue;
@@ -298,15 +476,32 @@ impl<'a> Tracer<'a> {
                 kind: f.wave.kind,
                 depth: q.depth + 1,
                 throughput,
+                path: if sampled {
+                    q.path
+                } else {
+                    q.path.wrapping_mul(4).wrapping_add(i as u64 + 1)
+                },
             };
-            let fb = &f.wave.basis;
-            let j = self.radiance(&child, fb, media, stats);
-            sum += j.transform(&f.block);
+            let (child_out, deeper) = scratch.split_at_mut(n);
+            self.radiance(&child, &f.wave.basis, batch, key, child_out, deeper, stats);
+            for (o, j) in out.iter_mut().zip(child_out.iter()) {
+                let contribution = if scalar {
+                    let i = unpolarized_gain(&f.block) * j.intensity();
+                    if target.modes() == 1 {
+                        Coherence::scalar(i)
+                    } else {
+                        Coherence::unpolarized(i)
+                    }
+                } else {
+                    j.transform(&f.block)
+                };
+                *o += contribution * weight;
+            }
         }
-        if modes == 2 {
-            sum.change_basis(&target.basis, basis)
-        } else {
-            sum
+        if modes == 2 && !scalar {
+            for o in out.iter_mut() {
+                *o = o.change_basis(&target.basis, basis);
+            }
         }
     }
 }
