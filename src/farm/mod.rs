@@ -39,8 +39,8 @@ pub enum MergeError {
     )]
     HalfFloat { path: PathBuf, channel: String },
     #[error(
-        "lossy: {}: compressed with {method}, which does not keep float32 exactly; parts must \
-         use zip, zips, piz, rle or no compression",
+        "lossy: {}: compressed with {method}, a method that need not keep float32 exactly; \
+         parts must use zip, zips, piz, rle or no compression",
         path.display()
     )]
     Lossy { path: PathBuf, method: String },

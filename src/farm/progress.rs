@@ -93,14 +93,13 @@ impl Reporter {
             return;
         }
         let percent = 100.0 * done as f64 / total as f64;
-        {
-            let mut last = self.last_percent.lock().expect("not poisoned");
-            let whole = percent.floor() as i64;
-            if whole <= *last {
-                return;
-            }
-            *last = whole;
+        // Check and print under one lock, so lines come out in order.
+        let mut last = self.last_percent.lock().expect("not poisoned");
+        let whole = percent.floor() as i64;
+        if whole <= *last {
+            return;
         }
+        *last = whole;
         match self.mode {
             ProgressMode::Plain => self.line(&format!(
                 "spar: progress {done}/{total} tiles {percent:.1}% {:.1}s",

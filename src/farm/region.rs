@@ -179,8 +179,10 @@ mod tests {
         );
         let t = split(512, 512, 4).unwrap();
         assert_eq!(t[3], Rect::parse("256,512,256,512").unwrap());
-        // A prime count: bands.
-        assert_eq!(split(512, 512, 7).unwrap()[0].height(), 512);
+        // A prime count: bands across the image (on a tie, rows win).
+        let bands = split(512, 512, 7).unwrap();
+        assert!(bands.iter().all(|b| b.width() == 512));
+        assert_eq!(bands[6].y1, 512);
     }
 
     #[test]

@@ -1,0 +1,80 @@
+//! Shared helpers of the render-farm tests: a small gem scene, running the
+//! spar binary, comparing pixels by their bits.
+#![allow(dead_code)]
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+/// A glass gem over a light: refraction, reflection and total internal
+/// reflection, so that sums of many different sizes meet in a pixel.
+pub const SCENE: &str = r#"
+[camera]
+eye = [0.0, -3.0, 2.0]
+look_at = [0.0, 0.0, 0.0]
+fov = 30.0
+resolution = [24, 16]
+samples = 3
+
+[render]
+wavelengths = [450.0, 550.0, 650.0]
+
+[[object]]
+mesh = "builtin:trichecker12"
+medium = "n-bk7"
+
+[[light]]
+corners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, -1.5]]
+"#;
+
+/// Writes `SCENE` (with `resolution` and `samples` replaced) as
+/// `dir/scene.toml`.
+pub fn write_scene(dir: &Path, width: u32, height: u32, samples: u32) {
+    let text = SCENE
+        .replace(
+            "resolution = [24, 16]",
+            &format!("resolution = [{width}, {height}]"),
+        )
+        .replace("samples = 3", &format!("samples = {samples}"));
+    std::fs::write(dir.join("scene.toml"), text).unwrap();
+}
+
+/// Runs spar in `dir`.
+pub fn spar(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_spar"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap()
+}
+
+/// Runs spar and insists on success.
+pub fn spar_ok(dir: &Path, args: &[&str]) -> Output {
+    let out = spar(dir, args);
+    assert!(
+        out.status.success(),
+        "spar {args:?} failed: {}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+/// An image's pixels as (channel name, bits of every value), channels
+/// sorted by name: equal only if every value is the same float.
+pub fn pixel_bits(path: &Path) -> Vec<(String, Vec<u32>)> {
+    let img = spar::image::read(path).unwrap();
+    let mut names: Vec<String> = img.channels().to_vec();
+    names.sort();
+    names
+        .into_iter()
+        .map(|n| {
+            let bits = img
+                .channel(&n)
+                .unwrap()
+                .iter()
+                .map(|v| v.to_bits())
+                .collect();
+            (n, bits)
+        })
+        .collect()
+}
