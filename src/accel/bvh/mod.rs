@@ -26,7 +26,7 @@ use super::{validate_meshes, AccelError, Hit, Intersector, Ray, TriangleMesh};
 use ray::PreparedRay;
 use sah::{Aabb, Primitives, SahConfig};
 pub use traverse::TraversalCounts;
-use wide::{ChildRef, WideBvh};
+use wide::{ChildRef, WideBvh, WideConfig};
 
 /// A BVH over a set of triangle meshes, immutable once built and safe to
 /// trace from many threads.
@@ -45,10 +45,42 @@ pub struct BvhStats {
     pub bytes: usize,
 }
 
+/// How the BVH is built. The defaults are what the benchmark chose
+/// (module documentation); the fields are public for tuning.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BvhOptions {
+    /// SAH bins per axis in the binary build (2 to 32).
+    pub bins: usize,
+    /// SAH cost of a node visit relative to a four-triangle packet test,
+    /// in the collapse to the wide tree.
+    pub node_cost: f64,
+    /// Most four-triangle packets in one leaf (1 to 16).
+    pub max_leaf_packets: usize,
+}
+
+impl Default for BvhOptions {
+    fn default() -> BvhOptions {
+        BvhOptions {
+            bins: 16,
+            node_cost: 4.0,
+            max_leaf_packets: 4,
+        }
+    }
+}
+
 impl RustBvh {
     /// Builds the BVH on `threads` threads (0: rayon's current pool, which is
     /// all cores unless the caller configured it).
     pub fn build(meshes: &[TriangleMesh<'_>], threads: usize) -> Result<RustBvh, AccelError> {
+        RustBvh::build_with(meshes, threads, &BvhOptions::default())
+    }
+
+    /// [`RustBvh::build`] with other build options.
+    pub fn build_with(
+        meshes: &[TriangleMesh<'_>],
+        threads: usize,
+        options: &BvhOptions,
+    ) -> Result<RustBvh, AccelError> {
         validate_meshes(meshes)?;
         let total: usize = meshes.iter().map(|m| m.triangles.len()).sum();
         // Packets are at most ⌈n/4⌉ plus one partly filled per leaf; a leaf
@@ -62,7 +94,7 @@ impl RustBvh {
                 ),
             });
         }
-        let work = || build_in_current_pool(meshes, total, &SahConfig::default());
+        let work = || build_in_current_pool(meshes, total, options);
         if threads == 0 {
             Ok(work())
         } else {
@@ -89,26 +121,11 @@ impl RustBvh {
     }
 }
 
-#[doc(hidden)]
-pub fn build_tuned(
+fn build_in_current_pool(
     meshes: &[TriangleMesh<'_>],
-    bins: usize,
-    trav: f64,
-    max_leaf: usize,
+    total: usize,
+    options: &BvhOptions,
 ) -> RustBvh {
-    let total: usize = meshes.iter().map(|m| m.triangles.len()).sum();
-    build_in_current_pool(
-        meshes,
-        total,
-        &SahConfig {
-            bins,
-            traversal_cost: trav,
-            max_leaf,
-        },
-    )
-}
-
-fn build_in_current_pool(meshes: &[TriangleMesh<'_>], total: usize, config: &SahConfig) -> RustBvh {
     use rayon::prelude::*;
     let mut triangles = Vec::with_capacity(total);
     for (geom, mesh) in meshes.iter().enumerate() {
@@ -126,8 +143,12 @@ fn build_in_current_pool(meshes: &[TriangleMesh<'_>], total: usize, config: &Sah
         boxes: &boxes,
         centroids: &centroids,
     };
-    let (root, order) = sah::build(&prims, config);
-    let bvh = wide::collapse(&root, &order, &triangles);
+    let (root, order) = sah::build(&prims, &SahConfig { bins: options.bins });
+    let wide = WideConfig {
+        node_cost: options.node_cost,
+        max_leaf_packets: options.max_leaf_packets,
+    };
+    let bvh = wide::collapse(&root, &order, &triangles, &wide);
     RustBvh {
         bvh,
         triangles: total,

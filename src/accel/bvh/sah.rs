@@ -4,9 +4,11 @@
 //! bin their primitives in parallel, and the two subtrees of every large
 //! node are built at the same time.
 //!
-//! The surface area heuristic counts leaf primitives in packets of four
-//! (the triangle test's width), as a leaf of one to four triangles costs one
-//! packet test.
+//! The tree goes down to leaves of at most one packet (four triangles, the
+//! triangle test's width): which subtrees become leaves of the wide tree is
+//! decided later, by the SAH of the wide tree (see `wide`). The surface
+//! area heuristic here counts primitives in packets of four, as one to four
+//! triangles cost one packet test.
 
 use super::triangle::LANES;
 use rayon::prelude::*;
@@ -70,27 +72,11 @@ pub(super) struct BinaryNode {
     pub children: Option<Box<[BinaryNode; 2]>>,
 }
 
-/// Tuning of the builder; the defaults are what the benchmark chose.
+/// Tuning of the binary builder.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct SahConfig {
-    /// Bins per axis.
+    /// Bins per axis (at most [`MAX_BINS`]).
     pub bins: usize,
-    /// Cost of a node visit relative to a packet test.
-    pub traversal_cost: f64,
-    /// Largest leaf the SAH may choose (in triangles). The wide tree's
-    /// dynamic programme merges subtrees into larger leaves where that
-    /// pays, so the binary tree goes down to one packet.
-    pub max_leaf: usize,
-}
-
-impl Default for SahConfig {
-    fn default() -> SahConfig {
-        SahConfig {
-            bins: 16,
-            traversal_cost: 1.0,
-            max_leaf: LANES,
-        }
-    }
 }
 
 /// Depth after which splits stop following the SAH and halve the node
@@ -256,9 +242,8 @@ fn best_split(
             if n == 0 || right_count[b] == 0 {
                 continue;
             }
-            let cost = config.traversal_cost
-                + (acc.half_area() * packets(n) + right_area[b] * packets(right_count[b]))
-                    / parent_area;
+            let cost = (acc.half_area() * packets(n) + right_area[b] * packets(right_count[b]))
+                / parent_area;
             if best.as_ref().is_none_or(|s| cost < s.cost) {
                 best = Some(Split {
                     binning,
@@ -309,26 +294,17 @@ fn build_node(
         None
     };
     let mid = match split {
-        Some(split) => {
-            if n <= config.max_leaf && packets(n) <= split.cost {
-                return leaf;
-            }
-            let Split {
-                binning,
-                first_right_bin,
-                ..
-            } = split;
-            partition(order, |i| {
-                binning.bin(&prims.centroids[i as usize]) < first_right_bin
-            })
-        }
+        Some(Split {
+            binning,
+            first_right_bin,
+            ..
+        }) => partition(order, |i| {
+            binning.bin(&prims.centroids[i as usize]) < first_right_bin
+        }),
         None => {
             // No SAH split (all centroids equal, a flat node, or too deep):
-            // a leaf if small enough, else the object median on the widest
-            // centroid axis (which always halves the node).
-            if n <= config.max_leaf && depth < SAH_DEPTH_LIMIT {
-                return leaf;
-            }
+            // the object median on the widest centroid axis, which always
+            // halves the node.
             let axis = (0..3)
                 .max_by(|&a, &b| {
                     let ea = centroid_bounds.hi[a] - centroid_bounds.lo[a];
@@ -424,7 +400,7 @@ mod tests {
             boxes: &boxes,
             centroids: &centroids,
         };
-        let (root, order) = build(&prims, &SahConfig::default());
+        let (root, order) = build(&prims, &SahConfig { bins: 16 });
         let mut sorted = order.clone();
         sorted.sort_unstable();
         assert!(sorted.iter().enumerate().all(|(i, &j)| i as u32 == j));
@@ -432,7 +408,7 @@ mod tests {
     }
 
     #[test]
-    fn identical_primitives_still_split_into_small_leaves() {
+    fn identical_primitives_still_split_into_one_packet_leaves() {
         // Equal centroids leave the SAH nothing to bin: object medians.
         let points = vec![[1.0f32, 2.0, 3.0]; 1000];
         let (boxes, centroids) = boxes_at(&points);
@@ -440,8 +416,7 @@ mod tests {
             boxes: &boxes,
             centroids: &centroids,
         };
-        let config = SahConfig::default();
-        let (root, order) = build(&prims, &config);
+        let (root, order) = build(&prims, &SahConfig { bins: 16 });
         assert_eq!(check(&root, &order, &prims, 0), 1000);
         fn max_leaf(n: &BinaryNode) -> usize {
             match &n.children {
@@ -449,7 +424,7 @@ mod tests {
                 Some(c) => max_leaf(&c[0]).max(max_leaf(&c[1])),
             }
         }
-        assert!(max_leaf(&root) <= config.max_leaf);
+        assert!(max_leaf(&root) <= LANES);
     }
 
     #[test]

@@ -18,12 +18,16 @@ use super::triangle::{Tri4, LANES};
 /// Children per node.
 pub(super) const WIDTH: usize = 8;
 
-/// SAH cost of testing a node's children's boxes, relative to one packet
-/// test (chosen by the benchmark).
-const NODE_COST: f64 = 1.0;
-
-/// Most packets in one leaf (the SAH decides below that).
-const MAX_LEAF_PACKETS: usize = 4;
+/// Tuning of the wide tree's SAH.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct WideConfig {
+    /// Cost of testing a node's children's boxes, relative to one packet
+    /// test.
+    pub node_cost: f64,
+    /// Most packets in one leaf (at most [`ChildRef::MAX_PACKETS`]); the
+    /// SAH decides below that.
+    pub max_leaf_packets: usize,
+}
 
 /// A node: child boxes and child references (256 bytes for eight children,
 /// four cache lines, fetched together).
@@ -65,8 +69,6 @@ impl ChildRef {
         first..first + count
     }
 }
-
-const _: () = assert!(MAX_LEAF_PACKETS <= ChildRef::MAX_PACKETS);
 
 impl Node {
     const EMPTY: Node = Node {
@@ -114,9 +116,10 @@ fn packets(count: usize) -> usize {
 }
 
 /// Fills the table bottom-up; large subtrees in parallel.
-fn plan(node: &BinaryNode) -> Plan {
+fn plan(node: &BinaryNode, config: &WideConfig) -> Plan {
     let area = node.bounds.half_area();
-    let leaf_cost = if packets(node.count) <= MAX_LEAF_PACKETS {
+    let max_leaf = config.max_leaf_packets.clamp(1, ChildRef::MAX_PACKETS);
+    let leaf_cost = if packets(node.count) <= max_leaf {
         area * packets(node.count) as f64
     } else {
         f64::INFINITY
@@ -133,9 +136,9 @@ fn plan(node: &BinaryNode) -> Plan {
         };
     };
     let (l, r) = if node.count > 4096 {
-        rayon::join(|| plan(&children[0]), || plan(&children[1]))
+        rayon::join(|| plan(&children[0], config), || plan(&children[1], config))
     } else {
-        (plan(&children[0]), plan(&children[1]))
+        (plan(&children[0], config), plan(&children[1], config))
     };
     // Distribute i slots: k to the left, i − k to the right.
     let distribute = |i: usize| -> (f64, u8) {
@@ -146,7 +149,7 @@ fn plan(node: &BinaryNode) -> Plan {
     let mut cost = [f64::INFINITY; WIDTH + 1];
     let mut split = [0u8; WIDTH + 1];
     let (below, node_split) = distribute(WIDTH);
-    let internal_cost = NODE_COST * area + below;
+    let internal_cost = config.node_cost * area + below;
     let as_leaf = leaf_cost <= internal_cost;
     cost[1] = leaf_cost.min(internal_cost);
     for i in 2..=WIDTH {
@@ -169,7 +172,12 @@ fn plan(node: &BinaryNode) -> Plan {
 
 /// Builds the wide tree from a binary tree whose ranges index `order`,
 /// which indexes `triangles`.
-pub(super) fn collapse(root: &BinaryNode, order: &[u32], triangles: &[Triangle]) -> WideBvh {
+pub(super) fn collapse(
+    root: &BinaryNode,
+    order: &[u32],
+    triangles: &[Triangle],
+    config: &WideConfig,
+) -> WideBvh {
     let mut out = WideBvh {
         nodes: Vec::new(),
         packets: Vec::with_capacity(order.len().div_ceil(LANES)),
@@ -184,7 +192,7 @@ pub(super) fn collapse(root: &BinaryNode, order: &[u32], triangles: &[Triangle])
         }
         return out;
     }
-    let plan = plan(root);
+    let plan = plan(root, config);
     out.node(root, &plan, order, triangles, 1);
     out
 }
