@@ -1,5 +1,6 @@
-//! [`write`] and [`read`]: atomic writes through a temporary file, and the
-//! choice of backend (OpenImageIO with the `native` feature, none without).
+//! [`write`] and [`read`]: the checks every backend shares, atomic writes
+//! through a temporary file, and the choice of backend (OpenImageIO with the
+//! `native` feature, spar's pure-Rust codecs in [`super::pure`] without it).
 
 use super::{Cause, Encoding, Image, ImageError, WriteOptions};
 use std::ffi::OsString;
@@ -14,20 +15,71 @@ use std::sync::atomic::{AtomicU64, Ordering};
 /// 8- and 16-bit outputs clamp values to `[0, 1]` and write NaN as 0; the
 /// values must already be in `options.encoding`.
 pub fn write(path: &Path, image: &Image, options: WriteOptions) -> Result<(), ImageError> {
+    write_with(backend::DEFAULT, path, image, options)
+}
+
+/// Reads `path` (first subimage, top MIP level): linear floats, the file's
+/// channel names and string metadata. See the [module documentation](super)
+/// for what is decoded.
+pub fn read(path: &Path) -> Result<Image, ImageError> {
+    read_with(backend::DEFAULT, path)
+}
+
+/// What [`write_with`] and [`read_with`] hand a file to. Errors are
+/// [`Cause::Backend`] for what the format or codec refused and
+/// [`Cause::Io`] for what the file system refused.
+pub(super) struct Backend {
+    /// Writes `pixels` (the image's values, already clamped for integer
+    /// outputs) to `path`, whose extension names the format.
+    pub write: fn(&Path, &Image, &[f32], WriteOptions) -> Result<(), Cause>,
+    /// Reads `path`: linear floats, as the module documentation says.
+    pub read: fn(&Path) -> Result<Image, Cause>,
+}
+
+/// Metadata keys in OpenImageIO's own namespace (`oiio:`, any case):
+/// refused by [`write`], left out by the pure-Rust backend's reads.
+pub(super) fn is_reserved_key(key: &str) -> bool {
+    key.get(..5)
+        .is_some_and(|prefix| prefix.eq_ignore_ascii_case("oiio:"))
+}
+
+/// [`write`] through `backend`.
+pub(super) fn write_with(
+    backend: &Backend,
+    path: &Path,
+    image: &Image,
+    options: WriteOptions,
+) -> Result<(), ImageError> {
     let fail = |cause| ImageError::Write {
         path: path.to_path_buf(),
         cause,
     };
-    if !backend::AVAILABLE {
-        return Err(fail(Cause::NoBackend));
-    }
     if let Some(key) = image
         .metadata
         .keys()
-        .find(|k| k.is_empty() || k.to_ascii_lowercase().starts_with("oiio:"))
+        .find(|k| k.is_empty() || is_reserved_key(k))
     {
         return Err(fail(Cause::Invalid(format!(
             "metadata key '{key}' is empty or reserved (the oiio: namespace holds OpenImageIO's settings)"
+        ))));
+    }
+    // No format stores a NUL inside a name or a text value (C strings end
+    // there); refuse rather than cut it.
+    let has_nul = |s: &String| s.contains('\0');
+    if let Some((key, _)) = image
+        .metadata
+        .iter()
+        .find(|(k, v)| has_nul(k) || has_nul(v))
+    {
+        return Err(fail(Cause::Invalid(format!(
+            "metadata entry '{}' contains a NUL character",
+            key.escape_debug()
+        ))));
+    }
+    if let Some(name) = image.channels.iter().find(|n| has_nul(n)) {
+        return Err(fail(Cause::Invalid(format!(
+            "channel name '{}' contains a NUL character",
+            name.escape_debug()
         ))));
     }
     if !options.pixel_type.is_integer() && options.encoding != Encoding::Linear {
@@ -45,36 +97,33 @@ pub fn write(path: &Path, image: &Image, options: WriteOptions) -> Result<(), Im
     } else {
         &image.data
     };
-    backend::write(&temp.path, image, pixels, options).map_err(|message| {
-        // The backend saw the temporary's name; the caller knows the
-        // destination's.
-        let message = message.replace(
-            temp.path.to_string_lossy().as_ref(),
-            path.to_string_lossy().as_ref(),
-        );
-        fail(Cause::Backend(message))
+    (backend.write)(&temp.path, image, pixels, options).map_err(|cause| {
+        fail(match cause {
+            // The backend saw the temporary's name; the caller knows the
+            // destination's.
+            Cause::Backend(message) => Cause::Backend(message.replace(
+                temp.path.to_string_lossy().as_ref(),
+                path.to_string_lossy().as_ref(),
+            )),
+            other => other,
+        })
     })?;
     temp.persist(path).map_err(|e| fail(Cause::Io(e)))
 }
 
-/// Reads `path` (first subimage, top MIP level): linear floats, the file's
-/// channel names and string metadata. See the [module documentation](super)
-/// for what is decoded.
-pub fn read(path: &Path) -> Result<Image, ImageError> {
+/// [`read`] through `backend`.
+pub(super) fn read_with(backend: &Backend, path: &Path) -> Result<Image, ImageError> {
     let fail = |cause| ImageError::Read {
         path: path.to_path_buf(),
         cause,
     };
-    if !backend::AVAILABLE {
-        return Err(fail(Cause::NoBackend));
-    }
     // Ask the file system first: its message for a missing or unreadable
     // file is clearer than a decoder's.
     let meta = fs::metadata(path).map_err(|e| fail(Cause::Io(e)))?;
     if meta.is_dir() {
         return Err(fail(Cause::Invalid("it is a directory".into())));
     }
-    let mut image = backend::read(path).map_err(|m| fail(Cause::Backend(m)))?;
+    let mut image = (backend.read)(path).map_err(fail)?;
     image.source = Some(path.to_path_buf());
     Ok(image)
 }
@@ -135,75 +184,71 @@ impl Drop for TempFile {
     }
 }
 
-#[cfg(feature = "native")]
+/// The one place that chooses the backend of [`write`] and [`read`].
 mod backend {
-    use crate::image::{AlphaMode, Encoding, Image, PixelType, WriteOptions};
-    use crate::native::oiio;
-    use std::path::Path;
+    use super::Backend;
 
-    pub const AVAILABLE: bool = true;
+    #[cfg(feature = "native")]
+    pub const DEFAULT: &Backend = &oiio::BACKEND;
+    #[cfg(not(feature = "native"))]
+    pub const DEFAULT: &Backend = &crate::image::pure::BACKEND;
 
-    pub fn write(
-        path: &Path,
-        image: &Image,
-        pixels: &[f32],
-        options: WriteOptions,
-    ) -> Result<(), String> {
-        let metadata: Vec<(&str, &str)> = image
-            .metadata
-            .iter()
-            .map(|(k, v)| (k.as_str(), v.as_str()))
-            .collect();
-        oiio::write(&oiio::WriteRequest {
-            path,
-            width: image.width,
-            height: image.height,
-            channel_names: &image.channels,
-            pixels,
-            pixel_type: match options.pixel_type {
-                PixelType::U8 => oiio::PixelType::U8,
-                PixelType::U16 => oiio::PixelType::U16,
-                PixelType::Half => oiio::PixelType::Half,
-                PixelType::F32 => oiio::PixelType::F32,
-            },
-            alpha_channel: image.alpha_channel(),
-            unassociated_alpha: image.alpha == AlphaMode::Straight,
-            color_space: match options.encoding {
-                Encoding::Linear => oiio::ColorSpace::Linear,
-                Encoding::Srgb => oiio::ColorSpace::Srgb,
-            },
-            metadata: &metadata,
-        })
-        .map_err(|e| e.0)
-    }
+    /// OpenImageIO, through the shim in `spar-sys`.
+    #[cfg(feature = "native")]
+    mod oiio {
+        use crate::image::io::Backend;
+        use crate::image::{AlphaMode, Cause, Encoding, Image, PixelType, WriteOptions};
+        use crate::native::oiio;
+        use std::path::Path;
 
-    pub fn read(path: &Path) -> Result<Image, String> {
-        let raw = oiio::read(path).map_err(|e| e.0)?;
-        let mut image = Image::new(raw.width, raw.height, raw.channel_names, raw.pixels)
-            .map_err(|e| e.to_string())?;
-        image.alpha = if raw.unassociated_alpha {
-            AlphaMode::Straight
-        } else {
-            AlphaMode::Premultiplied
-        };
-        image.metadata = raw.metadata.into_iter().collect();
-        Ok(image)
-    }
-}
+        pub const BACKEND: Backend = Backend { write, read };
 
-#[cfg(not(feature = "native"))]
-mod backend {
-    use crate::image::{Image, WriteOptions};
-    use std::path::Path;
+        fn write(
+            path: &Path,
+            image: &Image,
+            pixels: &[f32],
+            options: WriteOptions,
+        ) -> Result<(), Cause> {
+            let metadata: Vec<(&str, &str)> = image
+                .metadata
+                .iter()
+                .map(|(k, v)| (k.as_str(), v.as_str()))
+                .collect();
+            oiio::write(&oiio::WriteRequest {
+                path,
+                width: image.width,
+                height: image.height,
+                channel_names: &image.channels,
+                pixels,
+                pixel_type: match options.pixel_type {
+                    PixelType::U8 => oiio::PixelType::U8,
+                    PixelType::U16 => oiio::PixelType::U16,
+                    PixelType::Half => oiio::PixelType::Half,
+                    PixelType::F32 => oiio::PixelType::F32,
+                },
+                alpha_channel: image.alpha_channel(),
+                unassociated_alpha: image.alpha == AlphaMode::Straight,
+                color_space: match options.encoding {
+                    Encoding::Linear => oiio::ColorSpace::Linear,
+                    Encoding::Srgb => oiio::ColorSpace::Srgb,
+                },
+                metadata: &metadata,
+            })
+            .map_err(|e| Cause::Backend(e.0))
+        }
 
-    pub const AVAILABLE: bool = false;
-
-    pub fn write(_: &Path, _: &Image, _: &[f32], _: WriteOptions) -> Result<(), String> {
-        Err("no image backend".into())
-    }
-
-    pub fn read(_: &Path) -> Result<Image, String> {
-        Err("no image backend".into())
+        fn read(path: &Path) -> Result<Image, Cause> {
+            let raw = oiio::read(path).map_err(|e| Cause::Backend(e.0))?;
+            let mut image = Image::new(raw.width, raw.height, raw.channel_names, raw.pixels)
+                .map_err(|e| Cause::Backend(e.to_string()))?;
+            image.alpha = if raw.unassociated_alpha {
+                AlphaMode::Straight
+            } else {
+                AlphaMode::Premultiplied
+            };
+            image.metadata = raw.metadata.into_iter().collect();
+            Ok(image)
+        }
     }
 }
 
@@ -211,7 +256,8 @@ mod backend {
 /// `size` pixels high, in the colour `colour` (one value per channel), using
 /// `font` (a font name such as "DejaVuSans", found through the system's font
 /// directories, or the path of a font file). Text outside the image is
-/// clipped.
+/// clipped. Needs OpenImageIO: without the `native` feature it returns
+/// [`ImageError::Invalid`] saying so.
 pub fn draw_text(
     image: &mut Image,
     x: i32,
@@ -238,7 +284,7 @@ pub fn draw_text(
     {
         let _ = (x, y, text, size, font);
         Err(ImageError::Invalid(
-            "drawing text needs the image backend (this build has none)".into(),
+            "drawing text needs OpenImageIO: this build of spar has no `native` feature".into(),
         ))
     }
 }

@@ -9,7 +9,10 @@
 //! `.tif`/`.tiff`, `.jpg`/`.jpeg`, …) and stores the sample type asked for
 //! in [`WriteOptions`]; [`read`] returns linear floats whatever the file
 //! held. Both go through OpenImageIO when spar is built with the `native`
-//! feature; without it they return [`Cause::NoBackend`].
+//! feature, and through spar's pure-Rust codecs ([`pure`]) without it. The
+//! pure-Rust backend keeps the same contract for **OpenEXR and PNG only**:
+//! it refuses TIFF, JPEG and every other format with an error saying that
+//! they need the `native` feature, and [`draw_text`] is unavailable.
 //!
 //! # Values, colour and alpha
 //! - Writing never changes colours: the [`Encoding`] in the options says
@@ -27,17 +30,26 @@
 //!   otherwise, a PNG gamma included) and TIFF tagged sRGB. Untagged TIFF is
 //!   returned as stored. Alpha is never decoded.
 //! - Alpha is the channel named `A` (or `Alpha`); [`AlphaMode`] says whether
-//!   colours are premultiplied by it. PNG stores straight alpha, EXR
-//!   premultiplied; OpenImageIO converts when the two differ.
+//!   colours are premultiplied by it. PNG stores straight alpha: [`write`]
+//!   divides premultiplied colours by alpha (as given, whatever their
+//!   encoding; colours under zero alpha are kept), and PNGs are read back
+//!   straight. EXR's convention is premultiplied: values are stored as
+//!   given and read back as [`AlphaMode::Premultiplied`].
 //!
 //! # What each format keeps
 //! Channel names: EXR keeps any; PNG, TIFF and JPEG return `R`, `G`, `B`,
 //! `A` (or `Y` for one channel) whatever was written, and a PNG's fourth
 //! channel is read back as alpha (so it is not decoded). Metadata: EXR keeps
 //! every string key; PNG keeps them as text chunks; TIFF and JPEG keep only
-//! the keys their formats know (`ImageDescription`, `Artist`, …). Formats
-//! that cannot store a sample type, a channel count or alpha make [`write`]
-//! fail rather than store something else (e.g. float PNG, alpha in JPEG).
+//! the keys their formats know (`ImageDescription`, `Artist`, …). Both
+//! backends store the standard keys under the format's own names (EXR's
+//! `comments`, `owner`, `capDate` for `ImageDescription`, `Copyright`,
+//! `DateTime`; PNG's `Description`, `Author`, `Title` for
+//! `ImageDescription`, `Artist`, `DocumentName`) and read them back under
+//! spar's. Keys starting with `oiio:` are OpenImageIO's settings: [`write`]
+//! refuses them. Formats that cannot store a sample type, a channel count
+//! or alpha make [`write`] fail rather than store something else (e.g.
+//! float PNG, alpha in JPEG).
 //!
 //! # Writes are atomic
 //! [`write`] writes `.<name>.tmp-<pid>-<n>.<ext>` in the destination
@@ -47,6 +59,7 @@
 //! Read back: [`read`] takes the first subimage, top MIP level, data window.
 
 mod io;
+pub mod pure;
 
 pub use io::{draw_text, read, write};
 
@@ -161,17 +174,15 @@ pub enum Cause {
     /// The file system refused (missing file, permissions, rename).
     #[error("{0}")]
     Io(std::io::Error),
-    /// OpenImageIO (through spar's shim) refused: unknown extension,
-    /// corrupt file, a format that cannot store what was asked.
+    /// The backend (OpenImageIO through spar's shim, or the pure-Rust
+    /// codecs) refused: unknown or unsupported extension, corrupt file, a
+    /// format that cannot store what was asked.
     #[error("{0}")]
     Backend(String),
-    /// The request itself is wrong (no extension, reserved metadata key,
-    /// inconsistent image).
+    /// The request itself is wrong (no extension, reserved metadata key, a
+    /// NUL character in a name or value, inconsistent image).
     #[error("{0}")]
     Invalid(String),
-    /// spar was built without an image backend.
-    #[error("this build of spar has no image backend (it was built without the `native` feature)")]
-    NoBackend,
 }
 
 /// An image: named `f32` channels, interleaved, row-major, top row first.
@@ -441,36 +452,5 @@ mod tests {
             Encoding::Linear
         );
         assert_eq!(WriteOptions::default().pixel_type, PixelType::F32);
-    }
-
-    #[cfg(not(feature = "native"))]
-    #[test]
-    fn without_a_backend_read_and_write_say_so() {
-        let dir = std::env::temp_dir().join(format!("spar-image-nobackend-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("out.exr");
-        let img = Image::new(1, 1, names(&["S0"]), vec![1.0]).unwrap();
-        let err = write(&path, &img, WriteOptions::default()).unwrap_err();
-        assert!(matches!(
-            err,
-            ImageError::Write {
-                cause: Cause::NoBackend,
-                ..
-            }
-        ));
-        assert!(
-            err.to_string().contains("out.exr") && err.to_string().contains("no image backend")
-        );
-        assert!(!path.exists());
-        assert!(std::fs::read_dir(&dir).unwrap().next().is_none());
-        let err = read(&path).unwrap_err();
-        assert!(matches!(
-            err,
-            ImageError::Read {
-                cause: Cause::NoBackend,
-                ..
-            }
-        ));
-        std::fs::remove_dir(&dir).unwrap();
     }
 }
