@@ -15,8 +15,15 @@ slurm_start() {
         --pid-file="$SLURM_DIR/munge/munged.pid" \
         --log-file="$SLURM_DIR/munge/munged.log" \
         --seed-file="$SLURM_DIR/munge/munged.seed"
-    local cpus
-    cpus=$(nproc)
+    # The node as slurmd sees the hardware (CPUs, sockets, cores, threads):
+    # a node configured with more cores than slurmd finds is drained
+    # ("Low socket*core count"), e.g. CPUs=$(nproc) on a machine whose
+    # CPUs are hyperthreads.
+    local hw
+    hw=$(slurmd -C 2>/dev/null | head -n1 |
+        grep -oE '\b(CPUs|Boards|SocketsPerBoard|CoresPerSocket|ThreadsPerCore)=[0-9]+' |
+        paste -sd ' ')
+    [ -n "$hw" ] || hw="CPUs=$(nproc)"
     cat >"$SLURM_DIR/slurm.conf" <<CONF
 ClusterName=spar-test
 SlurmctldHost=localhost(127.0.0.1)
@@ -42,13 +49,13 @@ JobCompLoc=$SLURM_DIR/jobcomp.txt
 SchedulerType=sched/builtin
 SchedulerParameters=sched_interval=2
 SelectType=select/cons_tres
-SelectTypeParameters=CR_Core
+SelectTypeParameters=CR_CPU
 MpiDefault=none
 ReturnToService=2
 MinJobAge=3600
 KillWait=5
 MailProg=/bin/true
-NodeName=localhost NodeAddr=127.0.0.1 CPUs=$cpus State=UNKNOWN
+NodeName=localhost NodeAddr=127.0.0.1 $hw State=UNKNOWN
 PartitionName=test Nodes=localhost Default=YES MaxTime=INFINITE State=UP
 CONF
     export SLURM_CONF=$SLURM_DIR/slurm.conf
