@@ -36,6 +36,8 @@ fn setup() -> (Scene, RenderOptions, tempfile::TempDir) {
         samples: scene.samples,
         seed: scene.settings.seed,
         progress: false,
+        approx: scene.settings.approx,
+        colour_lambdas: usize::MAX,
     };
     (scene, opts, dir)
 }

@@ -11,6 +11,7 @@ use crate::farm::part::{part_image, RenderInfo};
 use crate::farm::progress::{ProgressMode, Reporter};
 use crate::farm::region::{self, Rect, TileSpec};
 use crate::image::{PixelType, WriteOptions};
+use crate::render::approx::{self, BranchingArg, PolarizationArg, Quality, Spectral};
 use crate::render::film::Film;
 use crate::render::integrator::{Stats, TreeSettings};
 use crate::render::output::{develop, OutputMode};
@@ -146,6 +147,29 @@ pub struct SceneOverrides {
     /// Random seed (overrides the scene).
     #[arg(long)]
     pub seed: Option<u64>,
+    /// A preset of depth, pruning, wavelengths, samples and strategy chosen
+    /// from the measured speed-against-error front (docs/speed-vs-error.md):
+    /// draft, default or reference. Other flags given with it win.
+    #[arg(long, value_parser = clap::value_parser!(Quality))]
+    pub quality: Option<Quality>,
+    /// Branch strategy: full (every feeder), stochastic (one feeder per
+    /// node, chosen by energy: unbiased, noisy) or hybrid:K (full for K
+    /// interactions, then stochastic). Overrides the scene.
+    #[arg(long, value_parser = clap::value_parser!(BranchingArg))]
+    pub branching: Option<BranchingArg>,
+    /// Polarization model: full (coherence matrices) or scalar (unpolarized
+    /// intensities, an approximation). Overrides the scene.
+    #[arg(long, value_parser = clap::value_parser!(PolarizationArg))]
+    pub polarization: Option<PolarizationArg>,
+    /// Spectral sampling of the colour wavelengths: all (every one for
+    /// every sample) or hero:K (K stratified wavelengths per sample,
+    /// rotating across samples). Overrides the scene.
+    #[arg(long, value_parser = clap::value_parser!(Spectral))]
+    pub spectral: Option<Spectral>,
+    /// Dispersion on or off (off: every wavelength follows the paths of
+    /// 587.56 nm). Overrides the scene.
+    #[arg(long, value_parser = approx::parse_on_off)]
+    pub dispersion: Option<bool>,
 }
 
 impl SceneOverrides {
@@ -164,6 +188,21 @@ impl SceneOverrides {
     /// any, checked against the scene's sample count.
     pub fn apply_with_block(&self, scene: &mut Scene) -> Result<Option<SampleRange>, CliError> {
         let input = CliError::Input;
+        if let Some(q) = self.quality {
+            q.apply(scene);
+        }
+        if let Some(b) = self.branching {
+            scene.settings.approx.strategy.branching = b.0;
+        }
+        if let Some(p) = self.polarization {
+            scene.settings.approx.strategy.polarization = p.0;
+        }
+        if let Some(s) = self.spectral {
+            scene.settings.approx.spectral = s;
+        }
+        if let Some(d) = self.dispersion {
+            scene.settings.approx.dispersion = d;
+        }
         if let Some(spec) = &self.wavelengths {
             scene.settings.wavelengths =
                 WavelengthSet::parse(spec).map_err(|e| input(format!("--wavelengths: {e}")))?;
@@ -236,6 +275,21 @@ impl SceneOverrides {
         }
         if let Some(s) = self.seed {
             a.extend(["--seed".into(), s.to_string()]);
+        }
+        if let Some(q) = self.quality {
+            a.extend(["--quality".into(), q.to_string()]);
+        }
+        if let Some(b) = self.branching {
+            a.extend(["--branching".into(), b.to_string()]);
+        }
+        if let Some(p) = self.polarization {
+            a.extend(["--polarization".into(), p.to_string()]);
+        }
+        if let Some(s) = self.spectral {
+            a.extend(["--spectral".into(), s.to_string()]);
+        }
+        if let Some(d) = self.dispersion {
+            a.extend(["--dispersion".into(), if d { "on" } else { "off" }.into()]);
         }
         a
     }
@@ -367,7 +421,14 @@ pub fn lambdas_for(scene: &Scene, modes: &[OutputMode], mono_nm: f64) -> Vec<f64
 }
 
 fn options_for(scene: &Scene, lambdas: Vec<f64>, progress: bool) -> RenderOptions {
+    let colour = scene.settings.wavelengths.lambdas();
     RenderOptions {
+        // The colour set leads the list (lambdas_for).
+        colour_lambdas: lambdas
+            .iter()
+            .take_while(|l| colour.iter().any(|c| (*c - **l).abs() < 1e-9))
+            .count(),
+        approx: scene.settings.approx,
         lambdas,
         tree: TreeSettings {
             max_depth: scene.settings.max_depth,

@@ -92,6 +92,9 @@ pub struct RenderInfo {
     /// Intersection backend and Embree ISA (`auto` when not pinned).
     pub accel: String,
     pub isa: String,
+    /// Branch strategy, polarization model, spectral sampling, dispersion
+    /// (render::approx), as `key=value` pairs.
+    pub approx: String,
 }
 
 impl RenderInfo {
@@ -118,6 +121,7 @@ impl RenderInfo {
             mono_nm,
             accel: "embree".into(),
             isa: isa.unwrap_or("auto").to_string(),
+            approx: scene.settings.approx.to_string(),
         }
     }
 
@@ -126,7 +130,7 @@ impl RenderInfo {
     pub fn settings(&self) -> String {
         format!(
             "resolution={}x{} samples={} max_depth={} prune={:?} seed={} lambdas={:?} \
-             color_wavelengths={:?} color_weights={:?} mono_nm={:?} accel={} isa={}",
+             color_wavelengths={:?} color_weights={:?} mono_nm={:?} accel={} isa={} {}",
             self.width,
             self.height,
             self.samples,
@@ -138,7 +142,8 @@ impl RenderInfo {
             self.color.weights(),
             self.mono_nm,
             self.accel,
-            self.isa
+            self.isa,
+            self.approx
         )
     }
 

@@ -9,6 +9,7 @@
 //! depends on the thread count, the tile size, the region or the sample
 //! blocks a render is split into.
 
+pub mod approx;
 pub mod camera;
 pub mod film;
 pub mod integrator;
@@ -18,7 +19,9 @@ pub mod sampling;
 use crate::accel::Intersector;
 use crate::farm::blocks::{Accumulator, Node, SampleRange};
 use crate::farm::region::Rect;
+use crate::optics::Coherence;
 use crate::scene::Scene;
+use approx::{Approximations, NO_DISPERSION_NM};
 use film::Film;
 use integrator::{Stats, Tracer, TreeSettings, WavelengthMedia};
 use rayon::prelude::*;
@@ -40,6 +43,79 @@ pub struct RenderOptions {
     pub seed: u64,
     /// Show a progress bar on stderr.
     pub progress: bool,
+    /// Branch strategy, polarization model, spectral sampling, dispersion.
+    pub approx: Approximations,
+    /// The first `colour_lambdas` entries of `lambdas` are the colour
+    /// modes' set, which [`approx::Spectral::Hero`] thins out; the others
+    /// (a single-wavelength mode's) are traced for every sample.
+    pub colour_lambdas: usize,
+}
+
+impl RenderOptions {
+    /// Exact settings (every wavelength, full tree and polarization,
+    /// dispersion on) for `lambdas`, all of them a colour set.
+    pub fn exact(lambdas: Vec<f64>, tree: TreeSettings, samples: u32, seed: u64) -> RenderOptions {
+        RenderOptions {
+            colour_lambdas: lambdas.len(),
+            lambdas,
+            tree,
+            samples,
+            seed,
+            progress: false,
+            approx: Approximations::default(),
+        }
+    }
+}
+
+/// The wavelengths of a render grouped by the geometry they share, with
+/// the media each traces with. Model only what the scene needs: a scene
+/// whose media do not depend on wavelength (or a render with dispersion
+/// off) has one group, and each camera ray's tree is traced once for all
+/// its wavelengths; a dispersive scene has one group per wavelength.
+fn geometry_groups(scene: &Scene, opts: &RenderOptions) -> Vec<(Vec<usize>, Vec<WavelengthMedia>)> {
+    let mut groups: Vec<(Vec<usize>, Vec<WavelengthMedia>)> = Vec::new();
+    for (i, &l) in opts.lambdas.iter().enumerate() {
+        let geometry_nm = if opts.approx.dispersion {
+            l
+        } else {
+            NO_DISPERSION_NM
+        };
+        let m = WavelengthMedia::with_geometry_at(scene, l, geometry_nm);
+        match groups.iter_mut().find(|(_, b)| b[0].objects == m.objects) {
+            Some((idx, batch)) => {
+                idx.push(i);
+                batch.push(m);
+            }
+            None => groups.push((vec![i], vec![m])),
+        }
+    }
+    groups
+}
+
+/// For each offset of the rotating wavelength strata, the batches to trace:
+/// each geometry group restricted to the wavelengths traced at that offset
+/// (colour wavelengths `i` with `i % stride == offset`, and every other
+/// wavelength), with their indices. Empty batches are dropped.
+type Batches = Vec<Vec<(Vec<usize>, Vec<WavelengthMedia>)>>;
+
+fn batches_by_offset(scene: &Scene, opts: &RenderOptions, stride: usize) -> Batches {
+    let groups = geometry_groups(scene, opts);
+    (0..stride)
+        .map(|offset| {
+            groups
+                .iter()
+                .filter_map(|(idx, batch)| {
+                    let (i, m): (Vec<usize>, Vec<WavelengthMedia>) = idx
+                        .iter()
+                        .zip(batch)
+                        .filter(|(&i, _)| i >= opts.colour_lambdas || i % stride == offset)
+                        .map(|(&i, m)| (i, m.clone()))
+                        .unzip();
+                    (!i.is_empty()).then_some((i, m))
+                })
+                .collect()
+        })
+        .collect()
 }
 
 /// One unit of work: the pixels of `region`, the samples of `samples`.
@@ -194,12 +270,10 @@ pub fn render_part(
         "region {} outside the image",
         spec.region
     );
-    let media: Vec<WavelengthMedia> = opts
-        .lambdas
-        .iter()
-        .map(|&l| WavelengthMedia::new(scene, l))
-        .collect();
-    let tracer = Tracer::new(scene, accel, opts.tree);
+    let colour = opts.colour_lambdas.min(opts.lambdas.len());
+    let stride = opts.approx.spectral.stride(colour);
+    let batches = batches_by_offset(scene, opts, stride);
+    let tracer = Tracer::new(scene, accel, opts.tree).with_strategy(opts.approx.strategy);
     let nch = opts.lambdas.len() * 4;
     let nodes = spec.samples.nodes();
     let grid = tiles(spec.region, control.tile_size);
@@ -251,6 +325,7 @@ pub fn render_part(
             let npix = tile.area();
             let mut data = vec![0.0f32; nodes.len() * npix * nch];
             let mut acc = Accumulator::new(nch);
+            let mut out = vec![Coherence::zero(2); opts.lambdas.len()];
             let mut p = 0;
             for y in tile.y0..tile.y1 {
                 for x in tile.x0..tile.x1 {
@@ -261,6 +336,15 @@ pub fn render_part(
                             pixel: y as u64 * w as u64 + x as u64,
                             sample,
                         };
+                        // The strata's offset: random per pixel, then
+                        // rotating, so any `stride` consecutive samples
+                        // trace every colour wavelength once.
+                        let offset = if stride > 1 {
+                            let start = SampleKey { sample: 0, ..key }.uniform(dim::WAVELENGTH);
+                            ((start * stride as f64) as usize + sample as usize) % stride
+                        } else {
+                            0
+                        };
                         let fx = x as f64 + key.uniform(dim::PIXEL_X);
                         let fy = y as f64 + key.uniform(dim::PIXEL_Y);
                         let d = camera.direction(fx, fy);
@@ -270,15 +354,30 @@ pub fn render_part(
                             len: 1,
                         };
                         acc.push_with(leaf, |v| {
-                            for (m, out) in media.iter().zip(v.chunks_exact_mut(4)) {
-                                let j = tracer.camera_ray(camera.eye, d, [bx, by], m, &mut stats);
-                                let s = j.stokes();
-                                out.copy_from_slice(&[
-                                    s.s0 as f32,
-                                    s.s1 as f32,
-                                    s.s2 as f32,
-                                    s.s3 as f32,
-                                ]);
+                            for (idx, batch) in &batches[offset] {
+                                let out = &mut out[..idx.len()];
+                                tracer.trace_camera(
+                                    camera.eye,
+                                    d,
+                                    [bx, by],
+                                    batch,
+                                    &key,
+                                    out,
+                                    &mut stats,
+                                );
+                                for (&i, j) in idx.iter().zip(out.iter()) {
+                                    // A thinned-out colour wavelength stands
+                                    // for the `stride` samples it is traced
+                                    // in one of.
+                                    let w = if i < colour { stride as f64 } else { 1.0 };
+                                    let s = j.stokes();
+                                    v[4 * i..4 * i + 4].copy_from_slice(&[
+                                        (w * s.s0) as f32,
+                                        (w * s.s1) as f32,
+                                        (w * s.s2) as f32,
+                                        (w * s.s3) as f32,
+                                    ]);
+                                }
                             }
                         });
                     }

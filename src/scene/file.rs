@@ -97,6 +97,13 @@ pub struct RenderDef {
     pub max_depth: Option<Spanned<u32>>,
     pub prune: Option<Spanned<f64>>,
     pub seed: Option<u64>,
+    /// `full`, `stochastic` or `hybrid:K` (render::approx).
+    pub branching: Option<Spanned<String>>,
+    /// `full` or `scalar`.
+    pub polarization: Option<Spanned<String>>,
+    /// `all` or `hero:K`.
+    pub spectral: Option<Spanned<String>>,
+    pub dispersion: Option<bool>,
 }
 
 /// A refractive index model: a number (constant) or one named model.

@@ -50,6 +50,9 @@ pub struct RenderSettings {
     /// of the brightest emitter's radiance; 0 disables pruning.
     pub prune: f64,
     pub seed: u64,
+    /// Branch strategy, polarization model, spectral sampling and
+    /// dispersion (exact by default).
+    pub approx: crate::render::approx::Approximations,
 }
 
 /// Defaults: 21 wavelengths, depth 13 (the seed paper's), pruning at 1e-4
@@ -197,11 +200,36 @@ impl Scene {
                 );
             }
         }
+        let mut approx = crate::render::approx::Approximations::default();
+        if let Some(b) = &r.branching {
+            approx.strategy.branching = b
+                .get_ref()
+                .parse::<crate::render::approx::BranchingArg>()
+                .or_else(|e| loc.err(b.span(), "render.branching", e))?
+                .0;
+        }
+        if let Some(b) = &r.polarization {
+            approx.strategy.polarization = b
+                .get_ref()
+                .parse::<crate::render::approx::PolarizationArg>()
+                .or_else(|e| loc.err(b.span(), "render.polarization", e))?
+                .0;
+        }
+        if let Some(b) = &r.spectral {
+            approx.spectral = b
+                .get_ref()
+                .parse()
+                .or_else(|e: String| loc.err(b.span(), "render.spectral", e))?;
+        }
+        if let Some(d) = r.dispersion {
+            approx.dispersion = d;
+        }
         let settings = RenderSettings {
             wavelengths,
             max_depth,
             prune,
             seed: r.seed.unwrap_or(0),
+            approx,
         };
 
         // Objects.

@@ -29,6 +29,8 @@ pub fn render_at(scene: &Scene, lambdas: &[f64]) -> (Film, Stats) {
         samples: scene.samples,
         seed: scene.settings.seed,
         progress: false,
+        approx: scene.settings.approx,
+        colour_lambdas: usize::MAX,
     };
     render(scene, accel.as_ref(), &opts)
 }

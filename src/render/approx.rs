@@ -1,0 +1,278 @@
+//! The renderer's speed-against-error knobs beyond depth, pruning and
+//! samples (docs/speed-vs-error.md): branch strategy, polarization model,
+//! spectral sampling and dispersion. The default of each is exact; every
+//! other value is an approximation or an unbiased-but-noisy estimator that
+//! is used only when a flag, a scene file or a `--quality` preset asks.
+
+use super::integrator::{Branching, PolarizationModel, Strategy};
+use std::fmt;
+use std::str::FromStr;
+
+/// Wavelength at which geometry is traced when dispersion is switched off:
+/// the helium d line, where Abbe numbers (and "the" index of a glass) are
+/// quoted.
+pub const NO_DISPERSION_NM: f64 = 587.5618;
+
+/// How the colour wavelengths are sampled.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Spectral {
+    /// Every wavelength for every sample.
+    #[default]
+    All,
+    /// `per_sample` stratified wavelengths per sample (one per stratum of
+    /// ⌈n / per_sample⌉ neighbours), the strata's offset rotating from
+    /// sample to sample: each wavelength is traced with probability
+    /// 1/stride and weighted by stride (unbiased; exact per wavelength
+    /// once a pixel has a multiple of `stride` samples).
+    Hero { per_sample: u32 },
+}
+
+impl Spectral {
+    /// Stride between the wavelengths traced together, for `n` colour
+    /// wavelengths (1: every wavelength).
+    pub fn stride(&self, n: usize) -> usize {
+        match *self {
+            Spectral::All => 1,
+            Spectral::Hero { per_sample } => n.div_ceil(per_sample.max(1) as usize).max(1),
+        }
+    }
+}
+
+/// Every knob that is not a count: the defaults model everything.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Approximations {
+    pub strategy: Strategy,
+    pub spectral: Spectral,
+    /// Media at every wavelength (true), or all at [`NO_DISPERSION_NM`].
+    pub dispersion: bool,
+}
+
+impl Default for Approximations {
+    fn default() -> Self {
+        Approximations {
+            strategy: Strategy::default(),
+            spectral: Spectral::All,
+            dispersion: true,
+        }
+    }
+}
+
+impl Approximations {
+    /// True when nothing is approximated and nothing is sampled beyond the
+    /// pixel positions.
+    pub fn is_exact(&self) -> bool {
+        *self == Approximations::default()
+    }
+}
+
+impl fmt::Display for Approximations {
+    /// `branching=… polarization=… spectral=… dispersion=…`, the values
+    /// written as the flags take them.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "branching={} polarization={} spectral={} dispersion={}",
+            BranchingArg(self.strategy.branching),
+            PolarizationArg(self.strategy.polarization),
+            self.spectral,
+            if self.dispersion { "on" } else { "off" }
+        )
+    }
+}
+
+/// A [`Branching`] as a flag value: `full`, `stochastic`, `hybrid:K`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BranchingArg(pub Branching);
+
+impl fmt::Display for BranchingArg {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.0 {
+            Branching::Full => f.write_str("full"),
+            Branching::Stochastic => f.write_str("stochastic"),
+            Branching::Hybrid { full_depth } => write!(f, "hybrid:{full_depth}"),
+        }
+    }
+}
+
+impl FromStr for BranchingArg {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.trim() {
+            "full" => Ok(BranchingArg(Branching::Full)),
+            "stochastic" => Ok(BranchingArg(Branching::Stochastic)),
+            t => match t.strip_prefix("hybrid:").map(|k| k.trim().parse::<u32>()) {
+                Some(Ok(full_depth)) if full_depth <= 1000 => {
+                    Ok(BranchingArg(Branching::Hybrid { full_depth }))
+                }
+                _ => Err(format!(
+                    "`{s}`: branching is full, stochastic or hybrid:K (the full tree for K \
+                     interactions, K from 0 to 1000)"
+                )),
+            },
+        }
+    }
+}
+
+/// A [`PolarizationModel`] as a flag value: `full` or `scalar`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PolarizationArg(pub PolarizationModel);
+
+impl fmt::Display for PolarizationArg {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self.0 {
+            PolarizationModel::Full => "full",
+            PolarizationModel::Scalar => "scalar",
+        })
+    }
+}
+
+impl FromStr for PolarizationArg {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.trim() {
+            "full" => Ok(PolarizationArg(PolarizationModel::Full)),
+            "scalar" => Ok(PolarizationArg(PolarizationModel::Scalar)),
+            _ => Err(format!(
+                "`{s}`: the polarization model is full (coherence matrices) or scalar \
+                 (unpolarized intensities)"
+            )),
+        }
+    }
+}
+
+impl fmt::Display for Spectral {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Spectral::All => f.write_str("all"),
+            Spectral::Hero { per_sample } => write!(f, "hero:{per_sample}"),
+        }
+    }
+}
+
+impl FromStr for Spectral {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.trim() {
+            "all" => Ok(Spectral::All),
+            t => match t.strip_prefix("hero:").map(|k| k.trim().parse::<u32>()) {
+                Some(Ok(per_sample)) if per_sample >= 1 => Ok(Spectral::Hero { per_sample }),
+                _ => Err(format!(
+                    "`{s}`: spectral sampling is all (every wavelength per sample) or hero:K \
+                     (K ≥ 1 stratified wavelengths per sample)"
+                )),
+            },
+        }
+    }
+}
+
+/// `--quality` presets, points of the measured speed-against-error front
+/// (docs/speed-vs-error.md). Each sets depth, pruning and strategy; flags
+/// given with a preset override its values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Quality {
+    /// Fast previews: shallow, pruned, sampled spectrum and branches.
+    Draft,
+    /// The defaults: the exact tree at depth 13 with pruning at 1e-4.
+    Default,
+    /// For references: deep, barely pruned, exact.
+    Reference,
+}
+
+impl fmt::Display for Quality {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Quality::Draft => "draft",
+            Quality::Default => "default",
+            Quality::Reference => "reference",
+        })
+    }
+}
+
+impl Quality {
+    /// (max depth, pruning threshold, approximations) of the preset.
+    pub fn settings(self) -> (u32, f64, Approximations) {
+        match self {
+            Quality::Draft => (
+                8,
+                1e-2,
+                Approximations {
+                    strategy: Strategy {
+                        branching: Branching::Hybrid { full_depth: 3 },
+                        polarization: PolarizationModel::Full,
+                    },
+                    spectral: Spectral::Hero { per_sample: 3 },
+                    dispersion: true,
+                },
+            ),
+            Quality::Default => (
+                crate::scene::DEFAULT_MAX_DEPTH,
+                crate::scene::DEFAULT_PRUNE,
+                Approximations::default(),
+            ),
+            Quality::Reference => (40, 1e-7, Approximations::default()),
+        }
+    }
+
+    /// Sets the preset's values in a scene's render settings.
+    pub fn apply(self, scene: &mut crate::scene::Scene) {
+        let (depth, prune, approx) = self.settings();
+        scene.settings.max_depth = depth;
+        scene.settings.prune = prune;
+        scene.settings.approx = approx;
+    }
+}
+
+/// Parses `on`/`off` (also `true`/`false`) for `--dispersion`.
+pub fn parse_on_off(s: &str) -> Result<bool, String> {
+    match s.trim() {
+        "on" | "true" => Ok(true),
+        "off" | "false" => Ok(false),
+        _ => Err(format!("`{s}`: give on or off")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flag_values_read_back_what_they_print() {
+        for s in ["full", "stochastic", "hybrid:0", "hybrid:3"] {
+            assert_eq!(s.parse::<BranchingArg>().unwrap().to_string(), s);
+        }
+        for s in ["full", "scalar"] {
+            assert_eq!(s.parse::<PolarizationArg>().unwrap().to_string(), s);
+        }
+        for s in ["all", "hero:1", "hero:4"] {
+            assert_eq!(s.parse::<Spectral>().unwrap().to_string(), s);
+        }
+        for bad in ["", "hybrid", "hybrid:-1", "hybrid:x", "Full"] {
+            assert!(bad.parse::<BranchingArg>().is_err(), "{bad}");
+        }
+        for bad in ["hero:0", "hero", "some"] {
+            assert!(bad.parse::<Spectral>().is_err(), "{bad}");
+        }
+        assert_eq!(
+            Approximations::default().to_string(),
+            "branching=full polarization=full spectral=all dispersion=on"
+        );
+        assert!(Approximations::default().is_exact());
+    }
+
+    #[test]
+    fn strides_cover_every_wavelength_once() {
+        // Stride s over n wavelengths: offsets 0..s partition 0..n.
+        for n in 1..40 {
+            for k in 1..8 {
+                let s = Spectral::Hero { per_sample: k }.stride(n);
+                let mut seen = vec![0; n];
+                for offset in 0..s {
+                    let traced: Vec<usize> = (offset..n).step_by(s).collect();
+                    assert!(traced.len() <= k as usize, "n {n} k {k}");
+                    traced.iter().for_each(|&i| seen[i] += 1);
+                }
+                assert!(seen.iter().all(|&c| c == 1), "n {n} k {k}");
+            }
+        }
+    }
+}

@@ -1,0 +1,184 @@
+//! "Model only what a scene needs" through the render driver: the
+//! automatic shortcuts give the image of the general path, and the sampled
+//! knobs (hero wavelengths, stochastic branching) are unbiased.
+
+mod common;
+use common::*;
+use spar::render::approx::{Spectral, NO_DISPERSION_NM};
+use spar::render::integrator::Branching;
+
+/// A gem of `medium` over a textured, polarized light, seen at an angle.
+fn gem(medium: &str, axis: &str, resolution: u32, samples: u32) -> String {
+    format!(
+        r#"
+[camera]
+eye = [0.0, -3.0, 2.2]
+look_at = [0.0, 0.0, -0.1]
+up = [0.0, 0.0, 1.0]
+fov = 30.0
+resolution = [{resolution}, {resolution}]
+samples = {samples}
+[render]
+max_depth = 10
+prune = 0.0
+[[object]]
+mesh = "builtin:trichecker12"
+medium = "{medium}"
+{axis}
+[[light]]
+corners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, -1.5]]
+texture = "builtin:checker"
+polarization = {{ linear = [1.0, 0.4, 0.0] }}
+[background]
+radiance = 0.3
+"#
+    )
+}
+
+const LAMBDAS: [f64; 5] = [420.0, 480.0, 540.0, 600.0, 700.0];
+
+#[test]
+fn a_scene_without_dispersion_traces_each_tree_once_for_all_wavelengths() {
+    let (scene, _d) = scene(&gem("iso:1.55", "", 8, 2), &[]);
+    let (batched, stats) = render_at(&scene, &LAMBDAS);
+    let mut one_rays = None;
+    for (i, &l) in LAMBDAS.iter().enumerate() {
+        let (alone, s) = render_at(&scene, &[l]);
+        one_rays.get_or_insert(s.rays);
+        assert_eq!(
+            s.rays,
+            one_rays.unwrap(),
+            "the same trees at every wavelength"
+        );
+        for y in 0..8 {
+            for x in 0..8 {
+                assert_eq!(
+                    batched.stokes(x, y, i),
+                    alone.stokes(x, y, 0),
+                    "{l} nm ({x}, {y})"
+                );
+            }
+        }
+    }
+    // The general path would trace five times as many rays.
+    assert_eq!(stats.rays, one_rays.unwrap());
+    assert!(stats.rays > 64 * 2 * 3, "trees, not just camera rays");
+}
+
+#[test]
+fn dispersion_off_traces_every_wavelength_along_the_d_line_paths() {
+    let axis = "optic_axis = [0.3, 0.2, 1.0]";
+    let (mut scene, _d) = scene(&gem("calcite", axis, 8, 1), &[]);
+    let lambdas = [450.0, NO_DISPERSION_NM, 650.0];
+    let (dispersive, on) = render_at(&scene, &lambdas);
+    scene.settings.approx.dispersion = false;
+    let (flat, off) = render_at(&scene, &lambdas);
+    let (d_line, d) = render_at(&scene, &[NO_DISPERSION_NM]);
+    // One tree per camera ray instead of one per wavelength.
+    assert_eq!(off.rays, d.rays);
+    assert!(on.rays > 2 * off.rays, "{} vs {}", on.rays, off.rays);
+    let mut differs = false;
+    for y in 0..8 {
+        for x in 0..8 {
+            // At the d line itself nothing is approximated.
+            assert_eq!(flat.stokes(x, y, 1), dispersive.stokes(x, y, 1));
+            assert_eq!(flat.stokes(x, y, 1), d_line.stokes(x, y, 0));
+            differs |= flat.stokes(x, y, 0) != dispersive.stokes(x, y, 0);
+        }
+    }
+    assert!(differs, "calcite disperses: 450 nm must differ somewhere");
+}
+
+#[test]
+fn hero_wavelengths_are_exact_where_every_sample_sees_the_same_light() {
+    // A uniform unpolarized light fills the view: every sample of a pixel
+    // sees the same spectrum, so stride · m samples give each wavelength
+    // exactly m traced samples of weight stride, i.e. the full spectrum.
+    let toml = r#"
+[camera]
+eye = [0.0, 0.0, 5.0]
+look_at = [0.0, 0.0, 0.0]
+up = [0.0, 1.0, 0.0]
+fov = 10.0
+resolution = [4, 4]
+samples = 14
+[[light]]
+corners = [[-2.0, -2.0, 0.0], [2.0, -2.0, 0.0], [2.0, 2.0, 0.0], [-2.0, 2.0, 0.0]]
+radiance = 1.0
+"#;
+    let (mut scene, _d) = scene(toml, &[]);
+    let lambdas: Vec<f64> = (0..21).map(|i| 380.0 + 20.0 * i as f64).collect();
+    let (all, _) = render_at(&scene, &lambdas);
+    scene.settings.approx.spectral = Spectral::Hero { per_sample: 3 };
+    let (hero, stats) = render_at(&scene, &lambdas);
+    // 21 wavelengths, 3 per sample: stride 7, 14 samples = 2 rounds.
+    assert_eq!(stats.rays, 16 * 14, "one camera ray per sample");
+    for y in 0..4 {
+        for x in 0..4 {
+            for i in 0..21 {
+                let (a, h) = (all.stokes(x, y, i)[0], hero.stokes(x, y, i)[0]);
+                // Sums of 14 f32 values on both sides: a few f32 roundings.
+                assert!((a - h).abs() <= 4.0 * f32::EPSILON as f64 * a, "{a} vs {h}");
+            }
+        }
+    }
+}
+
+/// Mean of the per-pixel differences between two films over all pixels and
+/// wavelengths, in units of its standard error.
+fn z_score(a: &spar::render::film::Film, b: &spar::render::film::Film, c: usize) -> f64 {
+    let mut d = Vec::new();
+    for y in 0..a.height {
+        for x in 0..a.width {
+            let s: f64 = (0..a.lambdas.len())
+                .map(|i| a.stokes(x, y, i)[c] - b.stokes(x, y, i)[c])
+                .sum();
+            d.push(s);
+        }
+    }
+    let n = d.len() as f64;
+    let mean = d.iter().sum::<f64>() / n;
+    let var = d.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    assert!(
+        var > 0.0,
+        "the sampled render must differ from the exact one"
+    );
+    mean / (var / n).sqrt()
+}
+
+#[test]
+fn sampled_knobs_are_unbiased_through_the_driver() {
+    // Each pixel's difference from the exact render has mean zero if the
+    // estimator is unbiased; over 256 pixels the mean difference must be
+    // within 5 standard errors (a 1-in-1.7-million false alarm for a
+    // normal mean).
+    let axis = "optic_axis = [0.3, 0.2, 1.0]";
+    let (scene, _d) = scene(&gem("calcite", axis, 16, 7), &[]);
+    let (exact, full_stats) = render_at(&scene, &LAMBDAS);
+    let knobs: [(&str, fn(&mut spar::scene::Scene)); 3] = [
+        ("hero:2", |s| {
+            s.settings.approx.spectral = Spectral::Hero { per_sample: 2 }
+        }),
+        ("stochastic", |s| {
+            s.settings.approx.strategy.branching = Branching::Stochastic
+        }),
+        ("hybrid:2", |s| {
+            s.settings.approx.strategy.branching = Branching::Hybrid { full_depth: 2 }
+        }),
+    ];
+    for (name, set) in knobs {
+        let mut sampled = scene.clone();
+        set(&mut sampled);
+        let (film, stats) = render_at(&sampled, &LAMBDAS);
+        assert!(stats.rays < full_stats.rays, "{name} must trace less");
+        for c in 0..3 {
+            let z = z_score(&film, &exact, c);
+            assert!(z.abs() < 5.0, "{name}: S{c} off by {z:.2} standard errors");
+        }
+        // Deterministic: the same seed gives the same film, another seed
+        // another one.
+        assert_eq!(render_at(&sampled, &LAMBDAS).0, film, "{name}");
+        sampled.settings.seed += 1;
+        assert_ne!(render_at(&sampled, &LAMBDAS).0, film, "{name}");
+    }
+}
