@@ -9,6 +9,7 @@
 //! repeated runs on a quiet machine is a few percent, on a shared one much
 //! more: rerun before quoting).
 
+use spar::accel::AccelKind;
 use spar::cli::render::render_film;
 use spar::render::output::OutputMode;
 use spar::scene::Scene;
@@ -20,6 +21,11 @@ fn main() {
         .split(',')
         .filter_map(|s| s.trim().parse().ok())
         .collect();
+    // SPAR_BENCH_ACCEL: embree or rust (default: this build's default).
+    let accel = std::env::var("SPAR_BENCH_ACCEL")
+        .map(|s| AccelKind::parse(&s).expect("SPAR_BENCH_ACCEL"))
+        .unwrap_or_default();
+    println!("backend: {accel}");
     let scenes = [
         "glass-unpolarized",
         "glass-polarized",
@@ -34,7 +40,8 @@ fn main() {
             let mut scene =
                 Scene::load(&dir.join(format!("{name}.toml"))).expect("seed scene loads");
             scene.camera = scene.camera.clone().with_resolution(*size, *size);
-            let done = render_film(&scene, &[OutputMode::Color], 580.0, 0, false).expect("render");
+            let done =
+                render_film(&scene, &[OutputMode::Color], 580.0, 0, false, accel).expect("render");
             let secs = done.render_time.as_secs_f64();
             let camera_rays =
                 (*size as u64).pow(2) * scene.samples as u64 * done.options.lambdas.len() as u64;

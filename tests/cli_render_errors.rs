@@ -1,6 +1,5 @@
 //! Bad input to `spar render`: a clear message naming the file, the line
 //! and the field, exit status 2, no output file, never a panic.
-#![cfg(feature = "native")]
 
 use std::path::Path;
 use std::process::Command;

@@ -1,7 +1,6 @@
 //! `spar render` outputs: several modes in one run, the Stokes EXR read back
 //! by channel name with its settings in the metadata, and values a direct
 //! view of a light must have.
-#![cfg(feature = "native")]
 
 use std::process::Command;
 

@@ -9,7 +9,6 @@
 //! the Trichecker's girdle band traps rays by total internal reflection
 //! around its polygon, and 6.6% of one pixel's light is still inside after
 //! 40 interactions. The brilliant from above has no such loop within 40.
-#![cfg(feature = "native")]
 
 mod common;
 use common::*;

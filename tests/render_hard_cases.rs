@@ -4,7 +4,6 @@
 //! angle. Every result must be finite, and results on either side of a
 //! degeneracy must agree to within what the geometry of the neighbouring
 //! rays can change.
-#![cfg(feature = "native")]
 
 mod common;
 use common::*;

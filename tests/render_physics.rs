@@ -2,10 +2,21 @@
 //! images: direct views of lights, Brewster reflection, calcite double
 //! refraction, a Fresnel rhomb. Each checks a number the renderer did not
 //! compute itself.
-#![cfg(feature = "native")]
+//!
+//! Every test runs on each intersection backend of the build
+//! (`embree::…`, `rust::…`).
 
 mod common;
 use common::*;
+use spar::accel::AccelKind;
+
+on_every_backend!(
+    direct_view_of_an_unpolarized_light_is_unpolarized,
+    direct_view_of_a_polarizer_shows_its_axis,
+    glass_at_brewsters_angle_reflects_s_polarized_light,
+    calcite_slab_doubles_a_line_with_the_walk_off_displacement,
+    fresnel_rhomb_makes_circular_light,
+);
 
 /// A camera looking straight down at a light 5 units below.
 fn direct_view(polarization: &str) -> String {
@@ -26,10 +37,9 @@ polarization = {polarization}
     )
 }
 
-#[test]
-fn direct_view_of_an_unpolarized_light_is_unpolarized() {
+fn direct_view_of_an_unpolarized_light_is_unpolarized(accel: AccelKind) {
     let (scene, _d) = scene(&direct_view("\"unpolarized\""), &[]);
-    let (film, _) = render_at(&scene, &[580.0]);
+    let (film, _) = render_with(&scene, &[580.0], accel);
     let s = mean_stokes(&film, 0, 8, 0, 8, 0);
     let (p, _, _) = polarimetry(s);
     assert!(p < 1e-12, "P = {p}");
@@ -40,13 +50,12 @@ fn direct_view_of_an_unpolarized_light_is_unpolarized() {
     assert_eq!(s[0], d65 as f32 as f64, "S0 {} vs D65 {d65}", s[0]);
 }
 
-#[test]
-fn direct_view_of_a_polarizer_shows_its_axis() {
+fn direct_view_of_a_polarizer_shows_its_axis(accel: AccelKind) {
     // Camera right is world +x, image up world +y: a polarizer along
     // (1, 1, 0) is at +45° from image right toward image up (S2 > 0), and
     // passes half of the light (Malus, averaged over unpolarized input).
     let (scene, _d) = scene(&direct_view("{ linear = [1.0, 1.0, 0.0] }"), &[]);
-    let (film, _) = render_at(&scene, &[580.0]);
+    let (film, _) = render_with(&scene, &[580.0], accel);
     // Each pixel is fully polarized. Its frame follows its own rays (x is
     // image right made transverse to the ray), so off-axis pixels see the
     // axis a little away from 45°, and samples within a pixel differ by a
@@ -72,14 +81,13 @@ fn direct_view_of_a_polarizer_shows_its_axis() {
     );
     // Along x: horizontal, S1 > 0, azimuth 0.
     let (scene2, _d2) = common::scene(&direct_view("{ linear = [1.0, 0.0, 0.0] }"), &[]);
-    let (film, _) = render_at(&scene2, &[580.0]);
+    let (film, _) = render_with(&scene2, &[580.0], accel);
     let (_, psi, _) = polarimetry(mean_stokes(&film, 3, 5, 3, 5, 0));
     assert!(psi.abs() < 0.05, "azimuth {psi}");
 }
 
 /// A thick glass plate seen at Brewster's angle, reflecting a light.
-#[test]
-fn glass_at_brewsters_angle_reflects_s_polarized_light() {
+fn glass_at_brewsters_angle_reflects_s_polarized_light(accel: AccelKind) {
     let n: f64 = 1.5;
     let theta = n.atan(); // Brewster's angle from air
     let (s, c) = theta.sin_cos();
@@ -114,7 +122,7 @@ radiance = 1.0
     );
     let plate = box_obj([-20.0, -20.0, -1.0], [20.0, 20.0, 0.0]);
     let (scene, _d) = scene(&toml, &[("plate.obj", plate)]);
-    let (film, stats) = render_at(&scene, &[580.0]);
+    let (film, stats) = render_with(&scene, &[580.0], accel);
     assert_eq!(stats.lost, 0);
     let st = mean_stokes(&film, 0, 6, 0, 6, 0);
     let (p, psi, _) = polarimetry(st);
@@ -144,8 +152,7 @@ radiance = 1.0
 /// A calcite slab, axis at 45° to its faces, over a thin bright line: two
 /// images, displaced by d·tan ρ = 0.1091 d (ρ the walk-off, optics.md §6),
 /// each fully polarized, the polarizations orthogonal.
-#[test]
-fn calcite_slab_doubles_a_line_with_the_walk_off_displacement() {
+fn calcite_slab_doubles_a_line_with_the_walk_off_displacement(accel: AccelKind) {
     let d = 1.0;
     let toml = r#"
 [camera]
@@ -173,7 +180,7 @@ radiance = 1.0
     // 0.005 units per row.
     let slab = box_obj([-10.0, -10.0, -d], [10.0, 10.0, 0.0]);
     let (scene, _dir) = scene(toml, &[("slab.obj", slab)]);
-    let (film, _) = render_at(&scene, &[589.3]);
+    let (film, _) = render_with(&scene, &[589.3], accel);
     let rows: Vec<[f64; 4]> = (0..120)
         .map(|y| mean_stokes(&film, 0, 8, y, y + 1, 0))
         .collect();
@@ -234,8 +241,7 @@ radiance = 1.0
 /// A Fresnel rhomb of n = 1.51 with 54.6° angles: two total internal
 /// reflections turn light linear at 45° to the plane of incidence into
 /// circular light (optics.md §6).
-#[test]
-fn fresnel_rhomb_makes_circular_light() {
+fn fresnel_rhomb_makes_circular_light(accel: AccelKind) {
     let theta = 54.6f64.to_radians();
     // Cross-section in the x–z plane: a parallelogram whose long faces are
     // horizontal (z = 0 and z = h) and whose end faces make angle θ with
@@ -316,7 +322,7 @@ polarization = {{ linear = {pol} }}
     );
     let rhomb = prism_obj(&poly, -1.0, 1.0);
     let (scene, _d) = scene(&toml, &[("rhomb.obj", rhomb)]);
-    let (film, stats) = render_at(&scene, &[589.3]);
+    let (film, stats) = render_with(&scene, &[589.3], accel);
     assert_eq!(stats.lost, 0);
     let s = mean_stokes(&film, 0, 4, 0, 4, 0);
     assert!(s[0] > 0.0, "the camera sees the light through the rhomb");

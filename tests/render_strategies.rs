@@ -2,7 +2,6 @@
 //! hybrid branching are unbiased (their mean converges to the full tree
 //! within the statistical error they themselves show), and a wavelength
 //! batch that shares its geometry gives exactly the per-wavelength trees.
-#![cfg(feature = "native")]
 
 mod common;
 use glam::DVec3;

@@ -3,7 +3,7 @@
 //! column per mode). The seed paper's sixteen images are
 //! `spar contact-sheet scenes/{glass,calcite}-{unpolarized,polarized}.toml`.
 
-use super::render::{render_film, SceneOverrides};
+use super::render::{render_film, AccelArgs, SceneOverrides};
 use super::CliError;
 use crate::image::{draw_text, Image, PixelType, WriteOptions};
 use crate::render::output::{develop, OutputMode};
@@ -37,6 +37,8 @@ pub struct ContactSheetArgs {
     pub wavelength: f64,
     #[command(flatten)]
     pub overrides: SceneOverrides,
+    #[command(flatten)]
+    pub accel: AccelArgs,
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
@@ -57,6 +59,7 @@ pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
             args.wavelength
         )));
     }
+    let accel = args.accel.kind(None)?;
     // Load and check every scene before rendering any.
     let mut scenes = Vec::new();
     for path in &args.scenes {
@@ -106,7 +109,14 @@ pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
             eprintln!("rendering {}", path.display());
         }
         let threads = args.threads.unwrap_or(0);
-        let done = render_film(scene, &args.mode, args.wavelength, threads, !args.quiet)?;
+        let done = render_film(
+            scene,
+            &args.mode,
+            args.wavelength,
+            threads,
+            !args.quiet,
+            accel,
+        )?;
         let name = path.file_stem().map_or_else(
             || path.display().to_string(),
             |s| s.to_string_lossy().into_owned(),

@@ -5,6 +5,7 @@
 use clap::{Parser, Subcommand};
 use std::fmt;
 
+pub mod compare;
 pub mod contact_sheet;
 pub mod cut;
 pub mod develop;
@@ -27,6 +28,9 @@ pub enum Command {
     Render(render::RenderArgs),
     /// Render several scenes in several modes into one labelled sheet.
     ContactSheet(contact_sheet::ContactSheetArgs),
+    /// Render a scene with both intersection backends (Embree and the Rust
+    /// BVH): their speed and how far their images are apart.
+    Compare(compare::CompareArgs),
     /// Generate a standard cut (round-brilliant, oval, princess, emerald)
     /// or a GemCAD .asc design's stone as OBJ.
     Cut(cut::CutArgs),
@@ -85,6 +89,7 @@ pub fn main() -> i32 {
     let result = match cli.command {
         Command::Render(args) => render::run(&args),
         Command::ContactSheet(args) => contact_sheet::run(&args),
+        Command::Compare(args) => compare::run(&args),
         Command::Cut(args) => cut::run(&args),
         Command::Interface(args) => interface::run(&args, &mut std::io::stdout().lock()),
         Command::Merge(args) => merge::run(&args),

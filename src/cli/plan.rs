@@ -1,7 +1,7 @@
 //! `spar plan SCENE --tiles N --slurm|--openjd`: print a job that renders
 //! the scene as N tiles on a farm and merges them (docs/farm.md).
 
-use super::render::{check_isa, SamplesArg, SceneOverrides};
+use super::render::{check_isa, AccelArgs, SamplesArg, SceneOverrides};
 use super::CliError;
 use crate::farm::plan::Plan;
 use crate::farm::region;
@@ -41,6 +41,9 @@ pub struct PlanArgs {
     /// avx2, avx512).
     #[arg(long)]
     pub isa: Option<String>,
+    // The intersection backend of every tile (`spar render --accel`).
+    #[command(flatten)]
+    pub accel: AccelArgs,
     /// Threads (CPUs) per tile.
     #[arg(long, default_value_t = 1)]
     pub threads: u32,
@@ -74,6 +77,7 @@ pub fn run(args: &PlanArgs, out: &mut dyn Write) -> Result<(), CliError> {
     if let Some(isa) = &args.isa {
         check_isa(isa).map_err(input)?;
     }
+    args.accel.kind(args.isa.as_deref())?;
     let mut modes = args.mode.clone();
     modes.dedup();
     if modes.is_empty() {
@@ -103,6 +107,9 @@ pub fn run(args: &PlanArgs, out: &mut dyn Write) -> Result<(), CliError> {
     render_args.extend(["--wavelength".into(), format!("{:?}", args.wavelength)]);
     if let Some(isa) = &args.isa {
         render_args.extend(["--isa".into(), isa.clone()]);
+    }
+    if let Some(kind) = args.accel.accel {
+        render_args.extend(["--accel".into(), kind.name().into()]);
     }
     let develop_args = vec![
         "--mode".into(),

@@ -4,16 +4,16 @@
 //! `--raw`; see docs/farm.md).
 
 use super::CliError;
-use crate::accel::{Intersector, TriangleMesh};
+use crate::accel::{AccelKind, Intersector, TriangleMesh};
 use crate::farm::blocks::SampleRange;
 use crate::farm::checkpoint;
 use crate::farm::part::{part_image, RenderInfo};
 use crate::farm::progress::{ProgressMode, Reporter};
 use crate::farm::region::{self, Rect, TileSpec};
 use crate::image::{PixelType, WriteOptions};
-use crate::render::approx::{self, BranchingArg, PolarizationArg, Quality, Spectral};
 use crate::render::film::Film;
 use crate::render::integrator::{Stats, TreeSettings};
+use crate::render::approx::{self, BranchingArg, PolarizationArg, Quality, Spectral};
 use crate::render::output::{develop, OutputMode};
 use crate::render::{render_part, Control, Outcome, PartSpec, RenderOptions, TileData, TILE};
 use crate::scene::{builtin, Scene};
@@ -46,12 +46,52 @@ pub struct RenderArgs {
     pub overrides: SceneOverrides,
     #[command(flatten)]
     pub farm: FarmArgs,
+    #[command(flatten)]
+    pub accel: AccelArgs,
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
     /// No progress or summary.
     #[arg(long, short)]
     pub quiet: bool,
+}
+
+/// `--accel`: the intersection backend of every command that traces.
+#[derive(clap::Args, Debug, Clone, Copy, Default)]
+pub struct AccelArgs {
+    /// Intersection backend: embree (Embree 3; the default in builds with
+    /// the `native` feature) or rust (spar's own BVH; the default without
+    /// it). They can hit different triangles at edges, so farm parts of
+    /// different backends do not merge.
+    #[arg(long, value_enum)]
+    pub accel: Option<AccelKind>,
+}
+
+impl AccelArgs {
+    /// The backend asked for (or this build's default), checked to be in
+    /// this build and, with an `--isa`, to be Embree.
+    pub fn kind(&self, isa: Option<&str>) -> Result<AccelKind, CliError> {
+        let kind = self.accel.unwrap_or_default();
+        check_accel(kind, isa)?;
+        Ok(kind)
+    }
+}
+
+/// Refuses a backend this build lacks, and `--isa` with any backend but
+/// Embree (exit status 2).
+pub fn check_accel(kind: AccelKind, isa: Option<&str>) -> Result<(), CliError> {
+    if !kind.available() {
+        return Err(CliError::Input(format!(
+            "--accel {kind}: this spar was built without the `native` feature, so Embree is not \
+             available; use --accel rust"
+        )));
+    }
+    if let (Some(isa), false) = (isa, kind == AccelKind::Embree) {
+        return Err(CliError::Input(format!(
+            "--isa {isa} pins Embree's instruction set; it does not apply to --accel {kind}"
+        )));
+    }
+    Ok(())
 }
 
 /// The render-farm flags of `spar render`.
@@ -448,17 +488,19 @@ fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, CliError> {
 }
 
 /// Renders what `modes` need: the scene's colour wavelengths for the
-/// spectral modes, `mono_nm` for the others; `threads` 0 means all cores.
+/// spectral modes, `mono_nm` for the others; `threads` 0 means all cores;
+/// `accel` traces.
 pub fn render_film(
     scene: &Scene,
     modes: &[OutputMode],
     mono_nm: f64,
     threads: usize,
     progress: bool,
+    accel: AccelKind,
 ) -> Result<Rendered, CliError> {
     let pool = thread_pool(threads)?;
     let t0 = Instant::now();
-    let accel = build_accel(scene, pool.current_num_threads())?;
+    let accel = build_accel_kind(scene, pool.current_num_threads(), accel, None)?;
     let accel_time = t0.elapsed();
     let options = options_for(scene, lambdas_for(scene, modes, mono_nm), progress);
     let t1 = Instant::now();
@@ -478,19 +520,23 @@ pub fn render_film(
     })
 }
 
-/// Builds the Embree accelerator for a scene's objects.
+/// Builds this build's default backend ([`AccelKind::default`]) for a
+/// scene's objects.
 pub fn build_accel(scene: &Scene, threads: usize) -> Result<Box<dyn Intersector>, CliError> {
-    build_accel_isa(scene, threads, None)
+    build_accel_kind(scene, threads, AccelKind::default(), None)
 }
 
-/// Builds the Embree accelerator with Embree's ISA pinned to `isa` (a name
-/// [`check_isa`] accepted).
-#[cfg(feature = "native")]
-pub fn build_accel_isa(
+/// Builds the `kind` backend for a scene's objects on `threads` threads;
+/// `isa` pins Embree's instruction set (a name [`check_isa`] accepted).
+/// A backend this build lacks, or an ISA for another backend than Embree,
+/// is an input error ([`check_accel`]).
+pub fn build_accel_kind(
     scene: &Scene,
     threads: usize,
+    kind: AccelKind,
     isa: Option<&str>,
 ) -> Result<Box<dyn Intersector>, CliError> {
+    check_accel(kind, isa)?;
     let verts: Vec<Vec<[f32; 3]>> = scene
         .objects
         .iter()
@@ -505,24 +551,14 @@ pub fn build_accel_isa(
             triangles: &o.mesh.triangles,
         })
         .collect();
-    let accel = crate::accel::embree::EmbreeAccel::build(&meshes, threads, isa)
-        .map_err(|e| CliError::Failed(e.to_string()))?;
-    Ok(Box::new(accel))
-}
-
-#[cfg(not(feature = "native"))]
-pub fn build_accel_isa(
-    _scene: &Scene,
-    _threads: usize,
-    _isa: Option<&str>,
-) -> Result<Box<dyn Intersector>, CliError> {
-    let _ = TriangleMesh {
-        vertices: &[],
-        triangles: &[],
-    };
-    Err(CliError::Failed(
-        "this build has no intersection backend (built without the `native` feature)".into(),
-    ))
+    let fail = |e: crate::accel::AccelError| CliError::Failed(e.to_string());
+    match (kind, isa) {
+        #[cfg(feature = "native")]
+        (AccelKind::Embree, Some(isa)) => Ok(Box::new(
+            crate::accel::embree::EmbreeAccel::build(&meshes, threads, Some(isa)).map_err(fail)?,
+        )),
+        _ => crate::accel::build(kind, &meshes, threads).map_err(fail),
+    }
 }
 
 /// Refuses an output whose directory does not exist or that names a
@@ -542,6 +578,18 @@ pub fn check_output(path: &Path) -> Result<(), CliError> {
     if path.is_dir() {
         return Err(CliError::Input(format!(
             "{}: is a directory, not a file name",
+            path.display()
+        )));
+    }
+    // The pure-Rust image backend writes EXR and PNG only.
+    #[cfg(not(feature = "native"))]
+    if !path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png") || e.eq_ignore_ascii_case("exr"))
+    {
+        return Err(CliError::Input(format!(
+            "{}: this spar was built without the `native` feature and writes .png and .exr \
+             files only",
             path.display()
         )));
     }
@@ -655,6 +703,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     if let Some(isa) = &farm.isa {
         check_isa(isa).map_err(input)?;
     }
+    let accel_kind = args.accel.kind(farm.isa.as_deref())?;
     let (w, h) = (scene.camera.width, scene.camera.height);
     let region = match (farm.region, farm.tile) {
         (Some(r), _) => {
@@ -696,13 +745,19 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         .as_ref()
         .map_or("(default scene)".into(), |p| p.display().to_string());
     let lambdas = lambdas_for(&scene, &modes, args.wavelength);
-    let info = RenderInfo::new(
+    let mut info = RenderInfo::new(
         &scene,
         &scene_label,
         lambdas.clone(),
         args.wavelength,
         farm.isa.as_deref(),
     );
+    // Backends may hit different triangles at edges: parts of different
+    // backends are different renders (the ISA is Embree's alone).
+    info.accel = accel_kind.name().into();
+    if accel_kind != AccelKind::Embree {
+        info.isa = "none".into();
+    }
     let progress_mode = if args.quiet {
         ProgressMode::None
     } else {
@@ -756,7 +811,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let threads = args.threads.unwrap_or(0);
     let pool = thread_pool(threads)?;
     let t_accel = Instant::now();
-    let accel = build_accel_isa(&scene, pool.current_num_threads(), farm.isa.as_deref())?;
+    let accel = build_accel_kind(
+        &scene,
+        pool.current_num_threads(),
+        accel_kind,
+        farm.isa.as_deref(),
+    )?;
     let t_accel = t_accel.elapsed();
     let grid_len = crate::render::tiles(spec.region, TILE).len();
     reporter.event(
@@ -850,12 +910,13 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     if !args.quiet {
         let secs = t_render.as_secs_f64();
         eprintln!(
-            "{}x{} px, region {}, samples {}, {} wavelength(s): accel {:.2} s, render {:.2} s, {} rays ({:.2} M rays/s), {} nodes, {} pruned, {} cut by depth, {} lost",
+            "{}x{} px, region {}, samples {}, {} wavelength(s): accel {} {:.2} s, render {:.2} s, {} rays ({:.2} M rays/s), {} nodes, {} pruned, {} cut by depth, {} lost",
             w,
             h,
             spec.region,
             spec.samples.label(),
             options.lambdas.len(),
+            accel_kind,
             t_accel.as_secs_f64(),
             secs,
             stats.rays,

@@ -1,7 +1,9 @@
 //! Shared helpers of the render tests: scenes from TOML text with meshes
-//! written to a temporary directory, rendered through the library.
+//! written to a temporary directory, rendered through the library with
+//! either intersection backend.
 #![allow(dead_code)]
 
+use spar::accel::AccelKind;
 use spar::render::film::Film;
 use spar::render::integrator::{Stats, TreeSettings};
 use spar::render::{render, RenderOptions};
@@ -17,9 +19,50 @@ pub fn scene(toml: &str, files: &[(&str, String)]) -> (Scene, tempfile::TempDir)
     (scene, dir)
 }
 
-/// Renders at the given wavelengths with the scene's settings.
+/// The intersection backends of this build: Embree (with the `native`
+/// feature) and the Rust BVH.
+pub fn backends() -> Vec<AccelKind> {
+    AccelKind::ALL
+        .into_iter()
+        .filter(|k| k.available())
+        .collect()
+}
+
+/// Runs each named test function (`fn name(accel: AccelKind)`) once per
+/// backend of this build, as tests `embree::name` and `rust::name`.
+#[macro_export]
+macro_rules! on_every_backend {
+    ($($name:ident),* $(,)?) => {
+        #[cfg(feature = "native")]
+        mod embree {
+            $(
+                #[test]
+                fn $name() {
+                    super::$name(spar::accel::AccelKind::Embree)
+                }
+            )*
+        }
+        mod rust {
+            $(
+                #[test]
+                fn $name() {
+                    super::$name(spar::accel::AccelKind::Rust)
+                }
+            )*
+        }
+    };
+}
+
+/// Renders at the given wavelengths with the scene's settings and this
+/// build's default backend.
 pub fn render_at(scene: &Scene, lambdas: &[f64]) -> (Film, Stats) {
-    let accel = spar::cli::render::build_accel(scene, 2).unwrap();
+    render_with(scene, lambdas, AccelKind::default())
+}
+
+/// Renders at the given wavelengths with the scene's settings through
+/// the `accel` backend.
+pub fn render_with(scene: &Scene, lambdas: &[f64], accel: AccelKind) -> (Film, Stats) {
+    let accel = spar::cli::render::build_accel_kind(scene, 2, accel, None).unwrap();
     let opts = RenderOptions {
         lambdas: lambdas.to_vec(),
         tree: TreeSettings {
