@@ -153,3 +153,81 @@ fn merge_names_what_is_wrong() {
     assert!(err.contains("incomplete: "), "{err}");
     assert!(!d.join("dev.png").exists());
 }
+
+/// Copies the repository's scene directory (scene files, meshes, textures)
+/// to `to`.
+fn copy_scenes(to: &Path) {
+    let from = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut stack = vec![from.clone()];
+    while let Some(dir) = stack.pop() {
+        let rel = dir.strip_prefix(&from).unwrap();
+        std::fs::create_dir_all(to.join(rel)).unwrap();
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+            } else {
+                std::fs::copy(&path, to.join(rel).join(path.file_name().unwrap())).unwrap();
+            }
+        }
+    }
+}
+
+#[test]
+fn a_scene_at_another_mount_point_is_the_same_render_an_edited_one_is_not() {
+    // Farm machines mount the scene (with its mesh and texture files) at
+    // different paths: parts still belong to one render. The same file
+    // with one number changed is another render.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    copy_scenes(&d.join("a/scenes"));
+    copy_scenes(&d.join("elsewhere/b/scenes"));
+    let scene = "scenes/glass-unpolarized.toml";
+    let small = ["--resolution", "24x16", "--samples", "2", "-q"];
+    let render = |cwd: &Path, scene: &str, extra: &[&str], out: &str| {
+        let mut a = vec!["render", scene];
+        a.extend(small);
+        a.extend(extra);
+        a.extend(["-o", out]);
+        spar_ok(cwd, &a);
+    };
+    render(d, &format!("a/{scene}"), &["--raw"], "whole.exr");
+    render(&d.join("a"), scene, &["--tile", "0/2"], "../t0.exr");
+    render(
+        d,
+        &d.join("elsewhere/b").join(scene).to_string_lossy(),
+        &["--tile", "1/2"],
+        "t1.exr",
+    );
+    let labels: Vec<String> = ["t0.exr", "t1.exr"]
+        .iter()
+        .map(|p| spar::image::read(&d.join(p)).unwrap().metadata()["spar:scene"].clone())
+        .collect();
+    assert_ne!(
+        labels[0], labels[1],
+        "the test should name the scene two ways"
+    );
+    spar_ok(d, &["merge", "t0.exr", "t1.exr", "-o", "merged.exr", "-q"]);
+    assert_eq!(
+        farm_common::pixel_bits(&d.join("whole.exr")),
+        farm_common::pixel_bits(&d.join("merged.exr"))
+    );
+    std::fs::remove_file(d.join("merged.exr")).unwrap();
+
+    // The gem turned by 16° instead of 15°, at the same path.
+    let b = d.join("elsewhere/b").join(scene);
+    let text = std::fs::read_to_string(&b).unwrap();
+    let edited = text.replace("rotate = [0.0, 0.0, 15.0]", "rotate = [0.0, 0.0, 16.0]");
+    assert_ne!(
+        text, edited,
+        "the scene no longer has the rotation this test edits"
+    );
+    std::fs::write(&b, edited).unwrap();
+    render(d, &b.to_string_lossy(), &["--tile", "1/2"], "t1-edited.exr");
+    refused(
+        d,
+        &["t0.exr", "t1-edited.exr"],
+        "mismatch",
+        &["spar:scene_hash", "t1-edited.exr"],
+    );
+}
