@@ -146,6 +146,9 @@ fn z_score(a: &spar::render::film::Film, b: &spar::render::film::Film, c: usize)
     mean / (var / n).sqrt()
 }
 
+/// A sampled setting: its name and how it changes a scene.
+type Knob = (&'static str, fn(&mut spar::scene::Scene));
+
 #[test]
 fn sampled_knobs_are_unbiased_through_the_driver() {
     // Each pixel's difference from the exact render has mean zero if the
@@ -155,7 +158,7 @@ fn sampled_knobs_are_unbiased_through_the_driver() {
     let axis = "optic_axis = [0.3, 0.2, 1.0]";
     let (scene, _d) = scene(&gem("calcite", axis, 16, 7), &[]);
     let (exact, full_stats) = render_at(&scene, &LAMBDAS);
-    let knobs: [(&str, fn(&mut spar::scene::Scene)); 3] = [
+    let knobs: [Knob; 3] = [
         ("hero:2", |s| {
             s.settings.approx.spectral = Spectral::Hero { per_sample: 2 }
         }),

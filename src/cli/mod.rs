@@ -12,7 +12,9 @@ pub mod develop;
 pub mod interface;
 pub mod merge;
 pub mod plan;
+pub mod plot;
 pub mod render;
+pub mod speed_error;
 
 /// spar: renders polarized light in cut gems and birefringent crystals.
 #[derive(Parser, Debug)]
@@ -44,6 +46,9 @@ pub enum Command {
     /// Print a render-farm job (Slurm script or OpenJD template) that
     /// renders a scene as tiles and merges them.
     Plan(plan::PlanArgs),
+    /// Render a scene under a sweep of settings and measure each one's
+    /// time and error against a converged reference (CSV, table, plot).
+    SpeedError(speed_error::SpeedErrorArgs),
 }
 
 /// An error the command line reports.
@@ -95,6 +100,7 @@ pub fn main() -> i32 {
         Command::Merge(args) => merge::run(&args),
         Command::Develop(args) => develop::run(&args),
         Command::Plan(args) => plan::run(&args, &mut std::io::stdout().lock()),
+        Command::SpeedError(args) => speed_error::run(&args),
     };
     match result {
         Ok(()) => 0,

@@ -1,0 +1,157 @@
+//! The speed-against-error plot of `spar speed-error` (plotters, drawn into
+//! memory and written through spar's image writer): RMSE against time on
+//! log axes, one colour per mode, the Pareto front joined and labelled.
+
+use super::speed_error::{pareto_front, Measured};
+use crate::image::{self, Encoding, Image, PixelType, WriteOptions};
+use crate::render::output::OutputMode;
+use plotters::prelude::*;
+use std::path::Path;
+use std::sync::OnceLock;
+
+const SIZE: (u32, u32) = (1200, 800);
+
+/// Font files tried for the plot's text (Debian's fonts-dejavu-core, which
+/// spar's setup installs).
+const FONTS: &[&str] = &[
+    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+    "/usr/share/fonts/TTF/DejaVuSans.ttf",
+    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
+];
+
+/// Registers a sans-serif font with plotters once.
+fn register_font() -> Result<(), String> {
+    static DONE: OnceLock<Result<(), String>> = OnceLock::new();
+    DONE.get_or_init(|| {
+        let bytes = FONTS
+            .iter()
+            .find_map(|p| std::fs::read(p).ok())
+            .ok_or_else(|| {
+                format!(
+                    "no font for the plot: install fonts-dejavu-core (looked for {})",
+                    FONTS.join(", ")
+                )
+            })?;
+        // plotters keeps the font for the whole process.
+        let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+        plotters::style::register_font("sans-serif", FontStyle::Normal, bytes)
+            .map_err(|_| "the plot's font could not be read".to_string())
+    })
+    .clone()
+}
+
+fn decade_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+    for v in values.filter(|v| v.is_finite() && *v > 0.0) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if !lo.is_finite() {
+        return (1e-3, 1.0);
+    }
+    (
+        10f64.powf(lo.log10().floor()),
+        10f64.powf(hi.log10().ceil()).max(lo * 10.0),
+    )
+}
+
+/// Draws the plot and writes it to `path` (PNG).
+pub fn pareto_plot(path: &Path, results: &[Measured], modes: &[OutputMode]) -> Result<(), String> {
+    register_font()?;
+    let (w, h) = SIZE;
+    let mut buf = vec![255u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, SIZE).into_drawing_area();
+        let err = |e: DrawingAreaErrorKind<_>| format!("plot: {e}");
+        root.fill(&WHITE).map_err(err)?;
+        let (t0, t1) = decade_range(results.iter().map(|r| r.seconds));
+        // Exact results (error 0) are drawn at the bottom edge.
+        let (e0, e1) = decade_range(results.iter().flat_map(|r| r.errors.iter().map(|e| e.rmse)));
+        let mut chart = ChartBuilder::on(&root)
+            .caption(
+                "error against time (Pareto front joined)",
+                ("sans-serif", 28),
+            )
+            .margin(20)
+            .x_label_area_size(50)
+            .y_label_area_size(80)
+            .build_cartesian_2d((t0..t1).log_scale(), (e0..e1).log_scale())
+            .map_err(|e| format!("plot: {e}"))?;
+        chart
+            .configure_mesh()
+            .x_desc("time (s)")
+            .y_desc("RMSE against the reference")
+            .label_style(("sans-serif", 18))
+            .draw()
+            .map_err(|e| format!("plot: {e}"))?;
+        let palette = [
+            RGBColor(31, 119, 180),
+            RGBColor(214, 39, 40),
+            RGBColor(44, 160, 44),
+            RGBColor(148, 103, 189),
+            RGBColor(255, 127, 14),
+            RGBColor(140, 86, 75),
+        ];
+        for (k, mode) in modes.iter().enumerate() {
+            let colour = palette[k % palette.len()];
+            let pts: Vec<(f64, f64)> = results
+                .iter()
+                .map(|r| (r.seconds, r.errors[k].rmse.max(e0)))
+                .collect();
+            chart
+                .draw_series(
+                    pts.iter()
+                        .map(|&p| Circle::new(p, 4, colour.mix(0.5).filled())),
+                )
+                .map_err(|e| format!("plot: {e}"))?
+                .label(format!("{} RMSE", mode.name()))
+                .legend(move |(x, y)| Circle::new((x + 10, y), 5, colour.filled()));
+            let front = pareto_front(
+                &results
+                    .iter()
+                    .map(|r| (r.seconds, r.errors[k].rmse))
+                    .collect::<Vec<_>>(),
+            );
+            chart
+                .draw_series(LineSeries::new(
+                    front.iter().map(|&i| pts[i]),
+                    colour.stroke_width(2),
+                ))
+                .map_err(|e| format!("plot: {e}"))?;
+            for &i in &front {
+                chart
+                    .draw_series(std::iter::once(Circle::new(pts[i], 6, colour.filled())))
+                    .map_err(|e| format!("plot: {e}"))?;
+                chart
+                    .draw_series(std::iter::once(Text::new(
+                        results[i].config.label.clone(),
+                        pts[i],
+                        ("sans-serif", 14).into_font().color(&colour),
+                    )))
+                    .map_err(|e| format!("plot: {e}"))?;
+            }
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 18))
+            .draw()
+            .map_err(|e| format!("plot: {e}"))?;
+        root.present().map_err(err)?;
+    }
+    let data: Vec<f32> = buf.iter().map(|&b| b as f32 / 255.0).collect();
+    let img = Image::new(
+        w as usize,
+        h as usize,
+        vec!["R".into(), "G".into(), "B".into()],
+        data,
+    )
+    .map_err(|e| e.to_string())?;
+    image::write(
+        path,
+        &img,
+        WriteOptions::new(PixelType::U8).with_encoding(Encoding::Srgb),
+    )
+    .map_err(|e| e.to_string())
+}

@@ -1,0 +1,585 @@
+//! `spar speed-error SCENE`: renders a scene under a sweep of settings
+//! (depth, pruning, samples, wavelengths, spectral sampling, branching,
+//! polarization model, dispersion), times each, measures its error against
+//! a converged reference in every asked mode, and writes a CSV and a plot of
+//! error against time with the Pareto front marked
+//! (docs/speed-vs-error.md).
+
+use super::render::{render_film, AccelArgs, Rendered, SceneOverrides};
+use super::CliError;
+use crate::farm::part::scene_hash;
+use crate::image::{self, Image, PixelType, WriteOptions};
+use crate::render::approx::{BranchingArg, PolarizationArg, Quality, Spectral};
+use crate::render::film::Film;
+use crate::render::output::{develop, OutputMode};
+use crate::scene::{builtin, Scene};
+use crate::spectrum::WavelengthSet;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+#[derive(clap::Args, Debug)]
+pub struct SpeedErrorArgs {
+    /// Scene file (default: the embedded default scene).
+    pub scene: Option<PathBuf>,
+    /// Modes whose error is measured: color, mono, dop, ellipticity,
+    /// ellipticity-paper, azimuth (display values in [0, 1]).
+    #[arg(long, short, value_delimiter = ',', default_value = "color,dop")]
+    pub mode: Vec<OutputMode>,
+    /// Output directory: results.csv, pareto.png.
+    #[arg(long, short, default_value = "speed-error")]
+    pub output: PathBuf,
+    /// Settings to measure, one per flag: space-separated `key=value`
+    /// (depth, prune, spp, wavelengths, spectral, branching, polarization,
+    /// dispersion, quality, seed). Default: a built-in sweep around the scene's
+    /// settings (docs/speed-vs-error.md).
+    #[arg(long = "config")]
+    pub configs: Vec<String>,
+    /// Raw reference film (EXR). Read if it exists (it must have been made
+    /// for this scene and these settings); otherwise rendered and saved
+    /// there.
+    #[arg(long)]
+    pub reference: Option<PathBuf>,
+    /// Reference settings, `key=value` as for --config.
+    #[arg(long, default_value = "depth=30 prune=1e-6 spp=16")]
+    pub reference_config: String,
+    /// Wavelength of the single-wavelength modes, nm.
+    #[arg(long, default_value_t = 580.0)]
+    pub wavelength: f64,
+    #[command(flatten)]
+    pub accel: AccelArgs,
+    #[command(flatten)]
+    pub overrides: SceneOverrides,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// No progress or table.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// One point of the sweep: settings applied on top of the scene's.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Config {
+    /// The text it was parsed from (its label).
+    pub label: String,
+    pub quality: Option<Quality>,
+    pub depth: Option<u32>,
+    pub prune: Option<f64>,
+    pub spp: Option<u32>,
+    pub wavelengths: Option<usize>,
+    pub spectral: Option<Spectral>,
+    pub branching: Option<BranchingArg>,
+    pub polarization: Option<PolarizationArg>,
+    pub dispersion: Option<bool>,
+    /// Another seed: the same settings as the reference with another seed
+    /// measure the reference's own noise.
+    pub seed: Option<u64>,
+}
+
+impl Config {
+    /// Parses `key=value key=value …`; an empty text is the scene as is.
+    pub fn parse(text: &str) -> Result<Config, String> {
+        let mut c = Config {
+            label: if text.trim().is_empty() {
+                "scene".into()
+            } else {
+                text.split_whitespace().collect::<Vec<_>>().join(" ")
+            },
+            ..Config::default()
+        };
+        for item in text.split_whitespace() {
+            let (k, v) = item
+                .split_once('=')
+                .ok_or_else(|| format!("`{item}` is not key=value"))?;
+            let bad = |what: &str| format!("`{item}`: {what}");
+            match k {
+                "quality" => {
+                    c.quality = Some(match v {
+                        "draft" => Quality::Draft,
+                        "default" => Quality::Default,
+                        "reference" => Quality::Reference,
+                        _ => return Err(bad("quality is draft, default or reference")),
+                    })
+                }
+                "depth" => {
+                    c.depth = Some(
+                        v.parse()
+                            .ok()
+                            .filter(|d| *d <= 1000)
+                            .ok_or_else(|| bad("depth is a whole number up to 1000"))?,
+                    )
+                }
+                "prune" => {
+                    c.prune = Some(
+                        v.parse::<f64>()
+                            .ok()
+                            .filter(|p| p.is_finite() && *p >= 0.0)
+                            .ok_or_else(|| bad("prune is a number ≥ 0"))?,
+                    )
+                }
+                "spp" => {
+                    c.spp = Some(
+                        v.parse()
+                            .ok()
+                            .filter(|s| *s >= 1)
+                            .ok_or_else(|| bad("spp is a whole number ≥ 1"))?,
+                    )
+                }
+                "wavelengths" => {
+                    c.wavelengths = Some(
+                        v.parse()
+                            .ok()
+                            .filter(|n| *n >= 1)
+                            .ok_or_else(|| bad("wavelengths is a count ≥ 1"))?,
+                    )
+                }
+                "spectral" => c.spectral = Some(v.parse().map_err(|e: String| bad(&e))?),
+                "branching" => c.branching = Some(v.parse().map_err(|e: String| bad(&e))?),
+                "polarization" => c.polarization = Some(v.parse().map_err(|e: String| bad(&e))?),
+                "seed" => c.seed = Some(v.parse().map_err(|_| bad("seed is a whole number ≥ 0"))?),
+                "dispersion" => {
+                    c.dispersion =
+                        Some(crate::render::approx::parse_on_off(v).map_err(|e| bad(&e))?)
+                }
+                _ => {
+                    return Err(bad(
+                        "unknown key; keys are depth, prune, spp, wavelengths, spectral, \
+                         branching, polarization, dispersion, quality, seed",
+                    ))
+                }
+            }
+        }
+        Ok(c)
+    }
+
+    /// The scene with these settings (a preset first, then the rest).
+    pub fn apply(&self, scene: &Scene) -> Result<Scene, String> {
+        let mut s = scene.clone();
+        if let Some(q) = self.quality {
+            q.apply(&mut s);
+        }
+        if let Some(d) = self.depth {
+            s.settings.max_depth = d;
+        }
+        if let Some(p) = self.prune {
+            s.settings.prune = p;
+        }
+        if let Some(n) = self.spp {
+            s.samples = n;
+        }
+        if let Some(n) = self.wavelengths {
+            s.settings.wavelengths = WavelengthSet::uniform(n).map_err(|e| e.to_string())?;
+        }
+        if let Some(v) = self.spectral {
+            s.settings.approx.spectral = v;
+        }
+        if let Some(v) = self.branching {
+            s.settings.approx.strategy.branching = v.0;
+        }
+        if let Some(v) = self.polarization {
+            s.settings.approx.strategy.polarization = v.0;
+        }
+        if let Some(v) = self.dispersion {
+            s.settings.approx.dispersion = v;
+        }
+        if let Some(v) = self.seed {
+            s.settings.seed = v;
+        }
+        Ok(s)
+    }
+}
+
+/// The built-in sweep: the scene's own settings, each knob moved alone,
+/// and combinations of the cheap ones. Sampled strategies get more samples
+/// so their noise is comparable.
+pub const DEFAULT_SWEEP: &[&str] = &[
+    "",
+    "depth=3",
+    "depth=5",
+    "depth=8",
+    "depth=20",
+    "prune=1e-2",
+    "prune=1e-3",
+    "prune=1e-6",
+    "wavelengths=7",
+    "wavelengths=11",
+    "spectral=hero:3",
+    "spectral=hero:7",
+    "polarization=scalar",
+    "dispersion=off",
+    "branching=hybrid:1",
+    "branching=hybrid:2",
+    "branching=hybrid:4",
+    "branching=stochastic",
+    "spp=4",
+    "spp=16",
+    "depth=8 prune=1e-2",
+    "branching=hybrid:2 spp=4",
+    "branching=hybrid:2 spp=16",
+    "branching=stochastic spp=16",
+    "branching=hybrid:2 spectral=hero:3 spp=4",
+    "branching=hybrid:2 spectral=hero:3 spp=16",
+    "branching=hybrid:2 spectral=hero:7 spp=16",
+    "branching=hybrid:3 spectral=hero:3 prune=1e-3 spp=16",
+    "quality=draft",
+    "quality=draft spp=16",
+];
+
+/// Error of one mode against the reference (display values).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ModeError {
+    pub rmse: f64,
+    pub max: f64,
+}
+
+/// RMSE and largest absolute difference over every value of two images of
+/// one shape.
+pub fn image_error(a: &Image, b: &Image) -> ModeError {
+    assert_eq!(a.data().len(), b.data().len());
+    let n = a.data().len().max(1) as f64;
+    let (mut sq, mut max) = (0.0f64, 0.0f64);
+    for (&x, &y) in a.data().iter().zip(b.data()) {
+        let d = (x as f64 - y as f64).abs();
+        sq += d * d;
+        max = max.max(d);
+    }
+    ModeError {
+        rmse: (sq / n).sqrt(),
+        max,
+    }
+}
+
+/// One measured configuration.
+#[derive(Clone, Debug)]
+pub struct Measured {
+    pub config: Config,
+    pub seconds: f64,
+    pub rays: u64,
+    /// Per mode (in the order asked).
+    pub errors: Vec<ModeError>,
+}
+
+/// Indices of the points on the Pareto front of (time, error): no other
+/// point is at least as fast and at least as accurate and better in one.
+pub fn pareto_front(points: &[(f64, f64)]) -> Vec<usize> {
+    let mut front: Vec<usize> = (0..points.len())
+        .filter(|&i| {
+            let (ti, ei) = points[i];
+            !points
+                .iter()
+                .enumerate()
+                .any(|(j, &(tj, ej))| j != i && tj <= ti && ej <= ei && (tj < ti || ej < ei))
+        })
+        .collect();
+    front.sort_by(|&a, &b| points[a].0.total_cmp(&points[b].0));
+    front
+}
+
+fn load_scene(args: &SpeedErrorArgs) -> Result<Scene, CliError> {
+    let input = CliError::Input;
+    let mut scene = match &args.scene {
+        Some(path) => Scene::load(path).map_err(|e| input(e.to_string()))?,
+        None => Scene::parse(builtin::DEFAULT_SCENE, "(default scene)", Path::new("."))
+            .map_err(|e| CliError::Failed(e.to_string()))?,
+    };
+    args.overrides.apply(&mut scene)?;
+    Ok(scene)
+}
+
+/// The identity a saved reference must match.
+fn reference_identity(scene: &Scene, config: &Config, lambdas: &[f64]) -> String {
+    format!(
+        "scene={} config={} lambdas={lambdas:?} version={}",
+        scene_hash(scene),
+        config.label,
+        crate::VERSION
+    )
+}
+
+const REFERENCE_KEY: &str = "spar:speed_error_reference";
+
+fn save_reference(path: &Path, film: &Film, identity: &str) -> Result<(), CliError> {
+    let channels = Film::channel_names(&film.lambdas);
+    let data: Vec<f32> = film.data.iter().flatten().copied().collect();
+    let img = Image::new(film.width as usize, film.height as usize, channels, data)
+        .map_err(|e| CliError::Failed(e.to_string()))?
+        .with_metadata(REFERENCE_KEY, identity)
+        .with_metadata("spar:samples", film.samples.to_string());
+    image::write(path, &img, WriteOptions::new(PixelType::F32))
+        .map_err(|e| CliError::Input(e.to_string()))
+}
+
+fn load_reference(path: &Path, identity: &str, lambdas: &[f64]) -> Result<Film, CliError> {
+    let input = CliError::Input;
+    let img = image::read(path).map_err(|e| input(e.to_string()))?;
+    let meta = |k: &str| img.metadata().get(k).cloned();
+    if meta(REFERENCE_KEY).as_deref() != Some(identity) {
+        return Err(input(format!(
+            "{}: not a reference for this scene and these settings (delete it to render \
+             a new one)",
+            path.display()
+        )));
+    }
+    let samples: u32 = meta("spar:samples")
+        .and_then(|s| s.parse().ok())
+        .ok_or_else(|| input(format!("{}: no spar:samples", path.display())))?;
+    let names = Film::channel_names(lambdas);
+    let mut sums = vec![0.0f32; img.width() * img.height() * names.len()];
+    let nch = names.len();
+    for (c, name) in names.iter().enumerate() {
+        let plane = img
+            .channel(name)
+            .map_err(|_| input(format!("{}: no channel {name}", path.display())))?;
+        for (p, v) in plane.into_iter().enumerate() {
+            sums[p * nch + c] = v;
+        }
+    }
+    Ok(Film::from_sums(
+        img.width() as u32,
+        img.height() as u32,
+        lambdas.to_vec(),
+        samples,
+        &sums,
+    ))
+}
+
+fn developed(
+    film: &Film,
+    modes: &[OutputMode],
+    colour: &WavelengthSet,
+    mono: f64,
+) -> Result<Vec<Image>, CliError> {
+    modes
+        .iter()
+        .map(|&m| develop(film, m, colour, mono).map_err(CliError::Failed))
+        .collect()
+}
+
+pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
+    let input = CliError::Input;
+    let mut modes = args.mode.clone();
+    modes.dedup();
+    if modes.is_empty() || modes.contains(&OutputMode::Stokes) {
+        return Err(input(
+            "--mode: give display modes (color, mono, dop, ellipticity, ellipticity-paper, \
+             azimuth); stokes has no display error"
+                .into(),
+        ));
+    }
+    let scene = load_scene(args)?;
+    let texts: Vec<&str> = if args.configs.is_empty() {
+        DEFAULT_SWEEP.to_vec()
+    } else {
+        args.configs.iter().map(String::as_str).collect()
+    };
+    let configs = texts
+        .iter()
+        .map(|c| Config::parse(c))
+        .collect::<Result<Vec<Config>, String>>()
+        .map_err(|e| input(format!("--config {e}")))?;
+    let ref_config = Config::parse(&args.reference_config)
+        .map_err(|e| input(format!("--reference-config {e}")))?;
+    std::fs::create_dir_all(&args.output).map_err(|e| {
+        input(format!(
+            "{}: cannot create the directory: {e}",
+            args.output.display()
+        ))
+    })?;
+    let threads = args.threads.unwrap_or(0);
+    let accel = args.accel.kind(None)?;
+    let say = |m: &str| {
+        if !args.quiet {
+            eprintln!("{m}");
+        }
+    };
+
+    // The reference: the scene's wavelengths (a colour set of the sweep
+    // may be smaller; images are compared after developing).
+    let ref_scene = ref_config.apply(&scene).map_err(input)?;
+    let colour = ref_scene.settings.wavelengths.clone();
+    let lambdas = super::render::lambdas_for(&ref_scene, &modes, args.wavelength);
+    let identity = reference_identity(&scene, &ref_config, &lambdas);
+    let reference = match &args.reference {
+        Some(p) if p.exists() => load_reference(p, &identity, &lambdas)?,
+        _ => {
+            say(&format!("reference: {}", ref_config.label));
+            let r = render_film(
+                &ref_scene,
+                &modes,
+                args.wavelength,
+                threads,
+                !args.quiet,
+                accel,
+            )?;
+            say(&format!(
+                "reference: {:.1} s, {} rays",
+                r.render_time.as_secs_f64(),
+                r.stats.rays
+            ));
+            if let Some(p) = &args.reference {
+                save_reference(p, &r.film, &identity)?;
+            }
+            r.film
+        }
+    };
+    let ref_images = developed(&reference, &modes, &colour, args.wavelength)?;
+
+    let mut results = Vec::new();
+    for config in &configs {
+        let s = config.apply(&scene).map_err(input)?;
+        let r: Rendered = render_film(&s, &modes, args.wavelength, threads, false, accel)?;
+        let images = developed(&r.film, &modes, &s.settings.wavelengths, args.wavelength)?;
+        let errors: Vec<ModeError> = images
+            .iter()
+            .zip(&ref_images)
+            .map(|(a, b)| image_error(a, b))
+            .collect();
+        let m = Measured {
+            config: config.clone(),
+            seconds: (r.accel_time + r.render_time).as_secs_f64(),
+            rays: r.stats.rays,
+            errors,
+        };
+        say(&row(&m, &modes));
+        results.push(m);
+    }
+
+    let csv_path = args.output.join("results.csv");
+    std::fs::write(&csv_path, csv(&results, &modes))
+        .map_err(|e| CliError::Failed(format!("{}: {e}", csv_path.display())))?;
+    let plot_path = args.output.join("pareto.png");
+    super::plot::pareto_plot(&plot_path, &results, &modes).map_err(CliError::Failed)?;
+    if !args.quiet {
+        print!("{}", table(&results, &modes));
+        println!("wrote {} and {}", csv_path.display(), plot_path.display());
+    }
+    Ok(())
+}
+
+fn row(m: &Measured, modes: &[OutputMode]) -> String {
+    let mut s = format!("{:>8.2} s {:>12} rays", m.seconds, m.rays);
+    for (mode, e) in modes.iter().zip(&m.errors) {
+        let _ = write!(s, "  {} rmse {:.5} max {:.4}", mode.name(), e.rmse, e.max);
+    }
+    let _ = write!(s, "  [{}]", m.config.label);
+    s
+}
+
+/// The CSV: one row per configuration.
+pub fn csv(results: &[Measured], modes: &[OutputMode]) -> String {
+    let mut s = String::from("config,seconds,rays");
+    for m in modes {
+        let _ = write!(s, ",{0}_rmse,{0}_max", m.name());
+    }
+    for m in modes {
+        let _ = write!(s, ",{}_pareto", m.name());
+    }
+    s.push('\n');
+    let fronts: Vec<Vec<usize>> = (0..modes.len())
+        .map(|k| {
+            pareto_front(
+                &results
+                    .iter()
+                    .map(|r| (r.seconds, r.errors[k].rmse))
+                    .collect::<Vec<_>>(),
+            )
+        })
+        .collect();
+    for (i, r) in results.iter().enumerate() {
+        let _ = write!(s, "\"{}\",{:.4},{}", r.config.label, r.seconds, r.rays);
+        for e in &r.errors {
+            let _ = write!(s, ",{:.6e},{:.6e}", e.rmse, e.max);
+        }
+        for f in &fronts {
+            let _ = write!(s, ",{}", f.contains(&i) as u8);
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// The Markdown table of the results, the Pareto points of each mode
+/// starred.
+pub fn table(results: &[Measured], modes: &[OutputMode]) -> String {
+    let fronts: Vec<Vec<usize>> = (0..modes.len())
+        .map(|k| {
+            pareto_front(
+                &results
+                    .iter()
+                    .map(|r| (r.seconds, r.errors[k].rmse))
+                    .collect::<Vec<_>>(),
+            )
+        })
+        .collect();
+    let mut s = String::from("| settings | time (s) | rays |");
+    for m in modes {
+        let _ = write!(s, " {0} RMSE | {0} max |", m.name());
+    }
+    s.push_str("\n|---|---:|---:|");
+    for _ in modes {
+        s.push_str("---:|---:|");
+    }
+    s.push('\n');
+    for (i, r) in results.iter().enumerate() {
+        let _ = write!(s, "| {} | {:.2} | {} |", r.config.label, r.seconds, r.rays);
+        for (k, e) in r.errors.iter().enumerate() {
+            let star = if fronts[k].contains(&i) { " *" } else { "" };
+            let _ = write!(s, " {:.4}{star} | {:.3} |", e.rmse, e.max);
+        }
+        s.push('\n');
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn configs_parse_and_name_bad_items() {
+        let c = Config::parse("depth=8 prune=1e-2 spectral=hero:3 branching=hybrid:2").unwrap();
+        assert_eq!(c.depth, Some(8));
+        assert_eq!(c.prune, Some(1e-2));
+        assert_eq!(c.spectral, Some(Spectral::Hero { per_sample: 3 }));
+        assert_eq!(Config::parse("").unwrap().label, "scene");
+        for bad in [
+            "depth",
+            "depth=-1",
+            "prune=x",
+            "spp=0",
+            "colour=1",
+            "spectral=hero:0",
+        ] {
+            let e = Config::parse(bad).unwrap_err();
+            assert!(e.contains(bad.split('=').next().unwrap()), "{e}");
+        }
+        for c in DEFAULT_SWEEP {
+            Config::parse(c).unwrap();
+        }
+    }
+
+    #[test]
+    fn the_pareto_front_keeps_only_undominated_points() {
+        // (time, error)
+        let p = [
+            (1.0, 0.5),
+            (2.0, 0.2),
+            (2.0, 0.3),
+            (3.0, 0.2),
+            (4.0, 0.01),
+            (0.5, 0.9),
+        ];
+        assert_eq!(pareto_front(&p), vec![5, 0, 1, 4]);
+        // Equal points do not dominate each other.
+        assert_eq!(pareto_front(&[(1.0, 1.0), (1.0, 1.0)]), vec![0, 1]);
+    }
+
+    #[test]
+    fn image_error_is_rmse_and_max() {
+        let a = Image::new(2, 1, vec!["Y".into()], vec![0.0, 1.0]).unwrap();
+        let b = Image::new(2, 1, vec!["Y".into()], vec![0.0, 0.5]).unwrap();
+        let e = image_error(&a, &b);
+        assert!((e.rmse - (0.125f64).sqrt()).abs() < 1e-12);
+        assert_eq!(e.max, 0.5);
+    }
+}

@@ -1,0 +1,128 @@
+//! `spar speed-error` end to end: the CSV, table and plot it writes, the
+//! reference it saves and checks, and its errors.
+
+use std::path::Path;
+use std::process::Command;
+
+fn spar(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_spar"))
+        .args(args)
+        .output()
+        .expect("spar runs")
+}
+
+fn scene() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes/glass-unpolarized.toml")
+        .to_string_lossy()
+        .into_owned()
+}
+
+const SMALL: [&str; 4] = ["--resolution", "12x12", "--wavelengths", "7"];
+
+#[test]
+fn a_sweep_writes_csv_table_and_plot_and_reuses_its_reference() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("se");
+    let reference = dir.path().join("ref.exr");
+    let (out_s, ref_s) = (out.to_str().unwrap(), reference.to_str().unwrap());
+    let s = scene();
+    let mut args = vec!["speed-error", &s, "-o", out_s, "--reference", ref_s];
+    args.extend(SMALL);
+    args.extend([
+        "--reference-config",
+        "depth=13 prune=1e-4 spp=1",
+        "--config",
+        "",
+        "--config",
+        "depth=2",
+        "--config",
+        "spectral=hero:1",
+    ]);
+    let run = spar(&args);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(
+        lines[0],
+        "config,seconds,rays,color_rmse,color_max,dop_rmse,dop_max,color_pareto,dop_pareto"
+    );
+    assert_eq!(lines.len(), 4);
+    // The scene's own settings are the reference's: no error at all.
+    let scene_row: Vec<&str> = lines[1].split(',').collect();
+    assert_eq!(scene_row[0], "\"scene\"");
+    assert_eq!(scene_row[3].parse::<f64>().unwrap(), 0.0);
+    assert_eq!(scene_row[5].parse::<f64>().unwrap(), 0.0);
+    // Depth 2 misses light: a real error, and fewer rays.
+    let shallow: Vec<&str> = lines[2].split(',').collect();
+    assert!(shallow[3].parse::<f64>().unwrap() > 1e-4, "{}", lines[2]);
+    assert!(shallow[2].parse::<u64>().unwrap() < scene_row[2].parse::<u64>().unwrap());
+    // One colour wavelength per sample out of seven, plus dop's 580 nm:
+    // two trees per sample instead of eight (N-BK7 disperses).
+    let hero: Vec<&str> = lines[3].split(',').collect();
+    assert!(hero[2].parse::<u64>().unwrap() * 3 < scene_row[2].parse::<u64>().unwrap());
+    // The exact row has zero error, so it is on both fronts.
+    assert!(lines[1].ends_with(",1,1"), "{}", lines[1]);
+    let table = String::from_utf8_lossy(&run.stdout);
+    assert!(table.contains("| settings | time (s) | rays |"), "{table}");
+    assert!(table.contains("| depth=2 |"), "{table}");
+
+    let plot = spar::image::read(&out.join("pareto.png")).unwrap();
+    assert_eq!((plot.width(), plot.height()), (1200, 800));
+    assert!(plot.data().iter().any(|&v| v < 0.5), "something is drawn");
+
+    // The saved reference is read back, not rendered again ("reference:"
+    // is printed only when rendering one).
+    assert!(reference.exists());
+    let again = spar(&args);
+    assert!(again.status.success());
+    assert!(!String::from_utf8_lossy(&again.stderr).contains("reference:"));
+    let csv2 = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    let err = |c: &str| {
+        c.lines()
+            .nth(2)
+            .unwrap()
+            .split(',')
+            .nth(3)
+            .unwrap()
+            .to_string()
+    };
+    assert_eq!(err(&csv), err(&csv2), "the same reference, the same error");
+
+    // Other reference settings: the saved file no longer fits.
+    let mut other = args.clone();
+    let i = other
+        .iter()
+        .position(|a| *a == "depth=13 prune=1e-4 spp=1")
+        .unwrap();
+    other[i] = "depth=12 prune=1e-4 spp=1";
+    let refused = spar(&other);
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("not a reference for this scene"));
+}
+
+#[test]
+fn bad_configs_and_modes_exit_2_naming_the_item() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("se");
+    let s = scene();
+    for (extra, needle) in [
+        (vec!["--config", "depth=x"], "depth=x"),
+        (vec!["--config", "colour=3"], "unknown key"),
+        (vec!["--reference-config", "spp=0"], "spp=0"),
+        (vec!["--mode", "stokes"], "stokes"),
+    ] {
+        let mut args = vec!["speed-error", &s, "-o", out.to_str().unwrap()];
+        args.extend(SMALL);
+        args.extend(extra);
+        let run = spar(&args);
+        assert_eq!(run.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert!(!out.join("results.csv").exists());
+    }
+}
