@@ -42,20 +42,22 @@ fn compare_needs_both_backends() {
     assert!(!dir.path().join("diff.png").exists());
 }
 
-/// One image row of the table: name, max abs, RMSE, differing pixels, of.
+/// One image row of the table: max abs, RMSE, pixels differing by more
+/// than 1e-6 relative, of how many, pixels not bit for bit equal.
 #[cfg(feature = "native")]
-fn image_row(table: &str, name: &str) -> (f64, f64, usize, usize) {
+fn image_row(table: &str, name: &str) -> (f64, f64, usize, usize, usize) {
     let line = table
         .lines()
         .find(|l| l.starts_with(name) && l.contains(" of "))
         .unwrap_or_else(|| panic!("no row {name} in\n{table}"));
     let f: Vec<&str> = line[name.len()..].split_whitespace().collect();
-    assert_eq!(f.len(), 5, "{line}");
+    assert_eq!(f.len(), 6, "{line}");
     (
         f[0].parse().unwrap(),
         f[1].parse().unwrap(),
         f[2].parse().unwrap(),
         f[4].parse().unwrap(),
+        f[5].parse().unwrap(),
     )
 }
 
@@ -99,15 +101,18 @@ fn compare_prints_the_table_and_writes_difference_images() {
     let ratio: f64 = ratio.split_whitespace().next().unwrap().parse().unwrap();
     assert!(ratio > 0.0 && ratio.is_finite(), "{table}");
     // The image rows: the raw film and each mode, over all 32×32 pixels.
-    let mut differing = 0;
+    let (mut differing, mut unequal) = (0, 0);
     for name in ["raw (Stokes sums)", "color", "dop"] {
-        let (max_abs, rmse, n, of) = image_row(&table, name);
+        let (max_abs, rmse, n, of, ne) = image_row(&table, name);
         assert_eq!(of, 1024, "{table}");
-        assert!(n <= of && rmse <= max_abs && max_abs >= 0.0, "{table}");
+        assert!(n <= ne && ne <= of, "{table}");
+        assert!(rmse <= max_abs && max_abs >= 0.0, "{table}");
+        assert_eq!(ne == 0, max_abs == 0.0, "{table}");
         // Both backends find the same triangles but for rays within ~1e-6
         // of an edge: a handful of pixels at most.
         assert!(n <= 20, "{table}");
         differing += n;
+        unequal += ne;
     }
     let verdict = table
         .lines()
@@ -118,6 +123,11 @@ fn compare_prints_the_table_and_writes_difference_images() {
         verdict.starts_with("identical"),
         "verdict disagrees with the counts:\n{table}"
     );
+    assert_eq!(
+        unequal == 0,
+        verdict.starts_with("identical: the images are the same bit for bit"),
+        "{table}"
+    );
     // One difference image per mode, relative differences on a log scale
     // (1e-6 relative is grey 1/7): as many bright pixels as the table
     // counts, give or take those within a grey level of 1e-6.
@@ -126,7 +136,7 @@ fn compare_prints_the_table_and_writes_difference_images() {
         assert_eq!((img.width(), img.height()), (32, 32));
         assert_eq!(img.metadata()["spar:mode"], mode);
         assert_eq!(img.metadata()["spar:compare"], "embree vs rust");
-        let (_, _, n, _) = image_row(&table, mode);
+        let (_, _, n, _, _) = image_row(&table, mode);
         let r = img.channel("R").unwrap();
         let above = |level: f32| r.iter().filter(|&&v| v > level).count();
         assert!(above(38.0 / 255.0) <= n, "{mode}: {table}");
@@ -143,13 +153,16 @@ fn compare_prints_the_table_and_writes_difference_images() {
             "16x16",
             "--mode",
             "stokes",
+            "--repeat",
+            "2",
             "-o",
             "d.exr",
         ],
         dir.path(),
     );
     assert_eq!(code, 0, "{table}{err}");
-    let (max_abs, _, _, of) = image_row(&table, "stokes");
+    assert!(table.contains("best of 2"), "{table}");
+    let (max_abs, _, _, of, _) = image_row(&table, "stokes");
     assert_eq!(of, 256);
     let img = spar::image::read(&dir.path().join("d.exr")).unwrap();
     let max = img.data().iter().fold(0.0f64, |m, &v| m.max(v as f64));

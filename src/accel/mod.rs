@@ -1,6 +1,7 @@
 //! Ray–triangle intersection: the trait the integrator traces through, and
-//! the backends behind it (Embree 3 when built with the `native` feature; a
-//! pure-Rust BVH later).
+//! the backends behind it: Embree 3 when built with the `native` feature,
+//! and spar's own BVH in pure Rust ([`bvh`]) in every build; [`build`]
+//! makes the one `--accel` names. docs/accel.md compares them.
 //!
 //! Geometry is handed to a backend as triangle meshes in world space. A hit
 //! reports which mesh (`geom`) and which triangle (`prim`) was hit and the
