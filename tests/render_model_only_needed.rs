@@ -185,3 +185,53 @@ fn sampled_knobs_are_unbiased_through_the_driver() {
         assert_ne!(render_at(&sampled, &LAMBDAS).0, film, "{name}");
     }
 }
+
+#[test]
+fn hero_sampling_never_thins_out_a_single_wavelength_mode() {
+    // dop at 580 nm with colour over 21 wavelengths (580 among them): with
+    // hero sampling the 580 nm channel is still traced for every sample,
+    // so it is bit for bit the channel of the unsampled render.
+    let dir = tempfile::tempdir().unwrap();
+    let scene =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/glass-polarized.toml");
+    let raw = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_spar"))
+            .arg("render")
+            .arg(&scene)
+            .args([
+                "--resolution",
+                "16x16",
+                "--mode",
+                "color,dop",
+                "--raw",
+                "-q",
+                "-o",
+            ])
+            .arg(&out)
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        spar::image::read(&out).unwrap()
+    };
+    let all = raw("all.exr", &[]);
+    let hero = raw("hero.exr", &["--spectral", "hero:3"]);
+    for c in 0..4 {
+        let name = format!("S{c}_580nm");
+        assert_eq!(
+            all.channel(&name).unwrap(),
+            hero.channel(&name).unwrap(),
+            "{name}"
+        );
+    }
+    // The thinned colour wavelengths do differ.
+    assert_ne!(
+        all.channel("S0_600nm").unwrap(),
+        hero.channel("S0_600nm").unwrap()
+    );
+}

@@ -447,27 +447,48 @@ pub struct Rendered {
 
 /// The wavelengths `modes` need: the scene's colour wavelengths for the
 /// spectral modes, `mono_nm` for the others.
+///
+/// The colour set comes first: [`options_for`] counts it as the set hero
+/// sampling thins out. With hero sampling, a single-wavelength mode's
+/// wavelength that is also in the colour set is moved to the end, so it is
+/// traced for every sample (and the colour modes use it at weight 1).
 pub fn lambdas_for(scene: &Scene, modes: &[OutputMode], mono_nm: f64) -> Vec<f64> {
+    let same = |a: f64, b: f64| (a - b).abs() < 1e-9;
+    let mono = modes.iter().any(|m| !m.is_spectral());
+    let hero = scene.settings.approx.spectral != Spectral::All;
     let mut lambdas: Vec<f64> = Vec::new();
     if modes.iter().any(|m| m.is_spectral()) {
-        lambdas.extend_from_slice(scene.settings.wavelengths.lambdas());
+        lambdas.extend(
+            scene
+                .settings
+                .wavelengths
+                .lambdas()
+                .iter()
+                .filter(|&&l| !(mono && hero && same(l, mono_nm))),
+        );
     }
-    if modes.iter().any(|m| !m.is_spectral())
-        && !lambdas.iter().any(|&l| (l - mono_nm).abs() < 1e-9)
-    {
+    if mono && !lambdas.iter().any(|&l| same(l, mono_nm)) {
         lambdas.push(mono_nm);
     }
     lambdas
 }
 
-fn options_for(scene: &Scene, lambdas: Vec<f64>, progress: bool) -> RenderOptions {
+fn options_for(scene: &Scene, modes: &[OutputMode], mono_nm: f64, progress: bool) -> RenderOptions {
+    let lambdas = lambdas_for(scene, modes, mono_nm);
     let colour = scene.settings.wavelengths.lambdas();
+    let mono = modes.iter().any(|m| !m.is_spectral());
+    let same = |a: f64, b: f64| (a - b).abs() < 1e-9;
     RenderOptions {
-        // The colour set leads the list (lambdas_for).
-        colour_lambdas: lambdas
-            .iter()
-            .take_while(|l| colour.iter().any(|c| (*c - **l).abs() < 1e-9))
-            .count(),
+        // The colour set leads the list, a single-wavelength mode's
+        // wavelength after it (lambdas_for).
+        colour_lambdas: if modes.iter().any(|m| m.is_spectral()) {
+            lambdas
+                .iter()
+                .take_while(|&&l| colour.iter().any(|&c| same(c, l)) && !(mono && same(l, mono_nm)))
+                .count()
+        } else {
+            0
+        },
         approx: scene.settings.approx,
         lambdas,
         tree: TreeSettings {
@@ -502,7 +523,7 @@ pub fn render_film(
     let t0 = Instant::now();
     let accel = build_accel_kind(scene, pool.current_num_threads(), accel, None)?;
     let accel_time = t0.elapsed();
-    let options = options_for(scene, lambdas_for(scene, modes, mono_nm), progress);
+    let options = options_for(scene, modes, mono_nm, progress);
     let t1 = Instant::now();
     let (film, stats) = pool.install(|| crate::render::render(scene, accel.as_ref(), &options));
     let render_time = t1.elapsed();
@@ -764,7 +785,8 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         farm.progress
     };
     let reporter = Reporter::new(progress_mode);
-    let options = options_for(&scene, lambdas, reporter.wants_bar());
+    let options = options_for(&scene, &modes, args.wavelength, reporter.wants_bar());
+    debug_assert_eq!(options.lambdas, lambdas);
 
     // Checkpoint: named after the output; valid only for this render,
     // part and tile size.
