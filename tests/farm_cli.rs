@@ -163,9 +163,21 @@ fn progress_lines_plain_and_openjd() {
         .filter(|l| l.starts_with("spar: progress "))
         .copied()
         .collect();
-    assert_eq!(progress.len(), 6, "{text}");
+    // One line per tile (6 tiles: each passes a whole percentage), counts
+    // going up; workers' reports can cross, so the first lines may be
+    // fewer (src/farm/progress.rs), but the last one is 100%.
+    let counts: Vec<usize> = progress
+        .iter()
+        .map(|l| {
+            let n = l.split(' ').nth(2).and_then(|c| c.split_once('/'));
+            assert_eq!(n.map(|n| n.1), Some("6"), "{l}");
+            n.unwrap().0.parse().unwrap()
+        })
+        .collect();
+    assert!(counts.windows(2).all(|w| w[0] < w[1]), "{text}");
+    assert!((1..=6).contains(&progress.len()), "{text}");
     assert!(
-        progress[5].starts_with("spar: progress 6/6 tiles 100.0% "),
+        progress[progress.len() - 1].starts_with("spar: progress 6/6 tiles 100.0% "),
         "{text}"
     );
     assert_eq!(lines[lines.len() - 2], "spar: wrote a.exr");
@@ -196,7 +208,7 @@ fn progress_lines_plain_and_openjd() {
             assert!(l.starts_with("openjd_status: "), "{l}");
         }
     }
-    assert_eq!((n, last), (6, 100.0), "{text}");
+    assert!((1..=6).contains(&n) && last == 100.0, "{text}");
     // Quiet means quiet.
     let out = spar_ok(d, &["render", "scene.toml", "--raw", "-o", "c.exr", "-q"]);
     assert!(out.stdout.is_empty() && out.stderr.is_empty());

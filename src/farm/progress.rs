@@ -11,7 +11,13 @@
 //! spar: done 49.1s
 //! ```
 //!
-//! `progress` lines come whenever the percentage passes a whole number.
+//! A `progress` line comes whenever the count of finished tiles passes a
+//! whole percentage. Counts never go back and never exceed the tiles
+//! actually finished; the last line says 100%. Workers report finished
+//! tiles concurrently, so their reports can arrive out of order: the count
+//! printed is then the number of reports so far on top of the smallest
+//! count reported (see [`TileCount`]), and a line can be left out only
+//! when reports come out of order before the first one arrives.
 //! `--progress openjd` prints the same events the way Open Job
 //! Description's session runner reads them: `openjd_progress: 25.0` (a
 //! percentage) and `openjd_status: <text>` for the others.
@@ -44,12 +50,48 @@ impl ProgressMode {
     }
 }
 
+/// Finished-tile counts from reports `(done, total)` that arrive out of
+/// order. Workers take the values `done` from one atomic counter, so they
+/// are distinct and consecutive from `resumed + 1`, but a worker can report
+/// after another that counted later. After reports `S`, the count is
+/// `min(S) − 1 + |S|`, never less than before: at most `max(S)` (the `|S|`
+/// distinct values from `min(S)` up), so never more than the tiles
+/// finished, and `total` once every report is in. When the first report
+/// to arrive is the smallest, the count is exact: one more per report.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct TileCount {
+    reports: usize,
+    min: usize,
+    count: usize,
+}
+
+impl TileCount {
+    /// Takes one report of `done` tiles and returns the count to show.
+    pub fn report(&mut self, done: usize) -> usize {
+        self.reports += 1;
+        self.min = if self.reports == 1 {
+            done
+        } else {
+            self.min.min(done)
+        };
+        self.count = self.count.max(self.min.saturating_sub(1) + self.reports);
+        self.count
+    }
+}
+
+/// Tile counts and the last whole percentage printed.
+#[derive(Debug)]
+struct Shown {
+    tiles: TileCount,
+    percent: i64,
+}
+
 /// Prints progress lines in one of the line modes (plain, openjd); does
 /// nothing in the others.
 pub struct Reporter {
     mode: ProgressMode,
     start: Instant,
-    last_percent: Mutex<i64>,
+    shown: Mutex<Shown>,
 }
 
 impl Reporter {
@@ -57,7 +99,10 @@ impl Reporter {
         Reporter {
             mode: mode.resolve(),
             start: Instant::now(),
-            last_percent: Mutex::new(-1),
+            shown: Mutex::new(Shown {
+                tiles: TileCount::default(),
+                percent: -1,
+            }),
         }
     }
 
@@ -87,19 +132,21 @@ impl Reporter {
         }
     }
 
-    /// `done` of `total` tiles finished.
+    /// A worker finished a tile: `done` of `total` tiles are finished (its
+    /// count; reports may arrive out of order, see [`TileCount`]).
     pub fn tiles(&self, done: usize, total: usize) {
         if !self.prints_lines() || total == 0 {
             return;
         }
+        // Count, check and print under one lock, so lines come out in order.
+        let mut shown = self.shown.lock().expect("not poisoned");
+        let done = shown.tiles.report(done).min(total);
         let percent = 100.0 * done as f64 / total as f64;
-        // Check and print under one lock, so lines come out in order.
-        let mut last = self.last_percent.lock().expect("not poisoned");
         let whole = percent.floor() as i64;
-        if whole <= *last {
+        if whole <= shown.percent {
             return;
         }
-        *last = whole;
+        shown.percent = whole;
         match self.mode {
             ProgressMode::Plain => self.line(&format!(
                 "spar: progress {done}/{total} tiles {percent:.1}% {:.1}s",
@@ -113,5 +160,48 @@ impl Reporter {
     /// Seconds since the reporter was made.
     pub fn elapsed(&self) -> f64 {
         self.start.elapsed().as_secs_f64()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn counts(reports: &[usize]) -> Vec<usize> {
+        let mut c = TileCount::default();
+        reports.iter().map(|&d| c.report(d)).collect()
+    }
+
+    #[test]
+    fn out_of_order_reports_count_up_one_by_one() {
+        // Tile 3's worker reported before tile 2's (the CI failure: a
+        // line was left out).
+        assert_eq!(counts(&[1, 3, 2, 4, 6, 5]), [1, 2, 3, 4, 5, 6]);
+        // After a resume of 4 tiles.
+        assert_eq!(counts(&[5, 7, 6, 8]), [5, 6, 7, 8]);
+    }
+
+    #[test]
+    fn counts_never_go_back_nor_past_the_finished_tiles() {
+        let mut rng = 0x2545_f491_4f6c_dd1du64;
+        for trial in 0..2000 {
+            let resumed = trial % 5;
+            let total = resumed + 1 + trial % 17;
+            let mut order: Vec<usize> = (resumed + 1..=total).collect();
+            for i in (1..order.len()).rev() {
+                rng ^= rng << 13;
+                rng ^= rng >> 7;
+                rng ^= rng << 17;
+                order.swap(i, (rng % (i as u64 + 1)) as usize);
+            }
+            let shown = counts(&order);
+            let mut seen_max = 0;
+            for (k, (&c, &d)) in shown.iter().zip(&order).enumerate() {
+                seen_max = seen_max.max(d);
+                assert!(c <= seen_max, "{order:?} → {shown:?}");
+                assert!(k == 0 || c >= shown[k - 1], "{order:?} → {shown:?}");
+            }
+            assert_eq!(*shown.last().unwrap(), total, "{order:?}");
+        }
     }
 }
