@@ -298,18 +298,50 @@ fn reference_identity(scene: &Scene, config: &Config, lambdas: &[f64]) -> String
 
 const REFERENCE_KEY: &str = "spar:speed_error_reference";
 
-fn save_reference(path: &Path, film: &Film, identity: &str) -> Result<(), CliError> {
-    let channels = Film::channel_names(&film.lambdas);
-    let data: Vec<f32> = film.data.iter().flatten().copied().collect();
-    let img = Image::new(film.width as usize, film.height as usize, channels, data)
+/// Seed of half `k` of the reference: unlike any seed of the sweep, whose
+/// configurations would otherwise share their pixel positions with the
+/// reference and look more accurate than they are.
+fn half_seed(seed: u64, k: u64) -> u64 {
+    seed ^ (0x5245_4600_0000_0000 | (k + 1))
+}
+
+/// The film of both halves' samples.
+fn combine(a: &Film, b: &Film) -> Film {
+    let mut f = a.clone();
+    for (x, y) in f.data.iter_mut().zip(&b.data) {
+        for c in 0..4 {
+            x[c] += y[c];
+        }
+    }
+    f.samples = a.samples + b.samples;
+    f
+}
+
+fn save_reference(path: &Path, a: &Film, b: &Film, identity: &str) -> Result<(), CliError> {
+    let names = Film::channel_names(&a.lambdas);
+    let channels: Vec<String> = ["a", "b"]
+        .iter()
+        .flat_map(|h| names.iter().map(move |n| format!("{h}.{n}")))
+        .collect();
+    let nch = names.len();
+    let mut data = Vec::with_capacity(a.data.len() * 8);
+    for (pa, pb) in a
+        .data
+        .chunks_exact(nch / 4)
+        .zip(b.data.chunks_exact(nch / 4))
+    {
+        data.extend(pa.iter().flatten());
+        data.extend(pb.iter().flatten());
+    }
+    let img = Image::new(a.width as usize, a.height as usize, channels, data)
         .map_err(|e| CliError::Failed(e.to_string()))?
         .with_metadata(REFERENCE_KEY, identity)
-        .with_metadata("spar:samples", film.samples.to_string());
+        .with_metadata("spar:samples", format!("{},{}", a.samples, b.samples));
     image::write(path, &img, WriteOptions::new(PixelType::F32))
         .map_err(|e| CliError::Input(e.to_string()))
 }
 
-fn load_reference(path: &Path, identity: &str, lambdas: &[f64]) -> Result<Film, CliError> {
+fn load_reference(path: &Path, identity: &str, lambdas: &[f64]) -> Result<(Film, Film), CliError> {
     let input = CliError::Input;
     let img = image::read(path).map_err(|e| input(e.to_string()))?;
     let meta = |k: &str| img.metadata().get(k).cloned();
@@ -320,27 +352,39 @@ fn load_reference(path: &Path, identity: &str, lambdas: &[f64]) -> Result<Film, 
             path.display()
         )));
     }
-    let samples: u32 = meta("spar:samples")
-        .and_then(|s| s.parse().ok())
-        .ok_or_else(|| input(format!("{}: no spar:samples", path.display())))?;
-    let names = Film::channel_names(lambdas);
-    let mut sums = vec![0.0f32; img.width() * img.height() * names.len()];
-    let nch = names.len();
-    for (c, name) in names.iter().enumerate() {
-        let plane = img
-            .channel(name)
-            .map_err(|_| input(format!("{}: no channel {name}", path.display())))?;
-        for (p, v) in plane.into_iter().enumerate() {
-            sums[p * nch + c] = v;
-        }
+    let samples: Vec<u32> = meta("spar:samples")
+        .map(|s| s.split(',').filter_map(|v| v.parse().ok()).collect())
+        .unwrap_or_default();
+    if samples.len() != 2 {
+        return Err(input(format!(
+            "{}: no spar:samples of two halves",
+            path.display()
+        )));
     }
-    Ok(Film::from_sums(
-        img.width() as u32,
-        img.height() as u32,
-        lambdas.to_vec(),
-        samples,
-        &sums,
-    ))
+    let names = Film::channel_names(lambdas);
+    let nch = names.len();
+    let mut films = Vec::new();
+    for (h, &n) in ["a", "b"].iter().zip(&samples) {
+        let mut sums = vec![0.0f32; img.width() * img.height() * nch];
+        for (c, name) in names.iter().enumerate() {
+            let plane = img
+                .channel(&format!("{h}.{name}"))
+                .map_err(|_| input(format!("{}: no channel {h}.{name}", path.display())))?;
+            for (p, v) in plane.into_iter().enumerate() {
+                sums[p * nch + c] = v;
+            }
+        }
+        films.push(Film::from_sums(
+            img.width() as u32,
+            img.height() as u32,
+            lambdas.to_vec(),
+            n,
+            &sums,
+        ));
+    }
+    let b = films.pop().expect("two");
+    let a = films.pop().expect("two");
+    Ok((a, b))
 }
 
 fn developed(
@@ -399,30 +443,47 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
     let colour = ref_scene.settings.wavelengths.clone();
     let lambdas = super::render::lambdas_for(&ref_scene, &modes, args.wavelength);
     let identity = reference_identity(&scene, &ref_config, &lambdas);
-    let reference = match &args.reference {
+    let (half_a, half_b) = match &args.reference {
         Some(p) if p.exists() => load_reference(p, &identity, &lambdas)?,
         _ => {
-            say(&format!("reference: {}", ref_config.label));
-            let r = render_film(
-                &ref_scene,
-                &modes,
-                args.wavelength,
-                threads,
-                !args.quiet,
-                accel,
-            )?;
-            say(&format!(
-                "reference: {:.1} s, {} rays",
-                r.render_time.as_secs_f64(),
-                r.stats.rays
-            ));
-            if let Some(p) = &args.reference {
-                save_reference(p, &r.film, &identity)?;
+            say(&format!("rendering the reference: {} (two halves)", ref_config.label));
+            let mut halves = Vec::new();
+            let mut seconds = 0.0;
+            for k in 0..2 {
+                let mut half = ref_scene.clone();
+                half.samples = ref_scene.samples.div_ceil(2);
+                half.settings.seed = half_seed(ref_scene.settings.seed, k);
+                let r = render_film(&half, &modes, args.wavelength, threads, !args.quiet, accel)?;
+                seconds += (r.accel_time + r.render_time).as_secs_f64();
+                halves.push(r.film);
             }
-            r.film
+            say(&format!("rendering the reference took {seconds:.1} s"));
+            let b = halves.pop().expect("two halves");
+            let a = halves.pop().expect("two halves");
+            if let Some(p) = &args.reference {
+                save_reference(p, &a, &b, &identity)?;
+            }
+            (a, b)
         }
     };
+    // The reference is the sum of its halves; half the difference of the
+    // halves' images estimates its own error (exact for values linear in
+    // the samples, such as colour before clamping).
+    let reference = combine(&half_a, &half_b);
     let ref_images = developed(&reference, &modes, &colour, args.wavelength)?;
+    let noise: Vec<f64> = developed(&half_a, &modes, &colour, args.wavelength)?
+        .iter()
+        .zip(&developed(&half_b, &modes, &colour, args.wavelength)?)
+        .map(|(a, b)| image_error(a, b).rmse / 2.0)
+        .collect();
+    let mut about = format!(
+        "reference: {} ({} samples per pixel in two halves of other seeds)\n",
+        ref_config.label, reference.samples
+    );
+    for (m, n) in modes.iter().zip(&noise) {
+        let _ = writeln!(about, "reference noise estimate, {} RMSE: {n:.5}", m.name());
+    }
+    say(about.trim_end());
 
     let mut results = Vec::new();
     for config in &configs {
@@ -444,6 +505,9 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
         results.push(m);
     }
 
+    let about_path = args.output.join("reference.txt");
+    std::fs::write(&about_path, &about)
+        .map_err(|e| CliError::Failed(format!("{}: {e}", about_path.display())))?;
     let csv_path = args.output.join("results.csv");
     std::fs::write(&csv_path, csv(&results, &modes))
         .map_err(|e| CliError::Failed(format!("{}: {e}", csv_path.display())))?;
