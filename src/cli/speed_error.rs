@@ -221,6 +221,10 @@ pub const DEFAULT_SWEEP: &[&str] = &[
     "branching=hybrid:2 spectral=hero:3 spp=16",
     "branching=hybrid:2 spectral=hero:7 spp=16",
     "branching=hybrid:3 spectral=hero:3 prune=1e-3 spp=16",
+    "dispersion=off spp=16",
+    "dispersion=off spp=64",
+    "dispersion=off depth=8 prune=1e-3 spp=64",
+    "dispersion=off branching=hybrid:3 spp=64",
     "quality=draft",
     "quality=draft spp=16",
 ];

@@ -166,15 +166,17 @@ impl FromStr for Spectral {
 }
 
 /// `--quality` presets, points of the measured speed-against-error front
-/// (docs/speed-vs-error.md). Each sets depth, pruning and strategy; flags
-/// given with a preset override its values.
+/// (docs/speed-vs-error.md). Each sets depth, pruning and the
+/// approximations; flags given with a preset override its values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Quality {
-    /// Fast previews: shallow, pruned, sampled spectrum and branches.
+    /// Previews: dispersion off (one tree for all wavelengths), depth 8,
+    /// pruning at 1e-3. Full branching and polarization: sampled branching
+    /// and scalar transport cost far more in DoP error than they save.
     Draft,
     /// The defaults: the exact tree at depth 13 with pruning at 1e-4.
     Default,
-    /// For references: deep, barely pruned, exact.
+    /// For references: depth 30, pruning at 1e-6, nothing approximated.
     Reference,
 }
 
@@ -194,14 +196,10 @@ impl Quality {
         match self {
             Quality::Draft => (
                 8,
-                1e-2,
+                1e-3,
                 Approximations {
-                    strategy: Strategy {
-                        branching: Branching::Hybrid { full_depth: 3 },
-                        polarization: PolarizationModel::Full,
-                    },
-                    spectral: Spectral::Hero { per_sample: 3 },
-                    dispersion: true,
+                    dispersion: false,
+                    ..Approximations::default()
                 },
             ),
             Quality::Default => (
@@ -209,7 +207,7 @@ impl Quality {
                 crate::scene::DEFAULT_PRUNE,
                 Approximations::default(),
             ),
-            Quality::Reference => (40, 1e-7, Approximations::default()),
+            Quality::Reference => (30, 1e-6, Approximations::default()),
         }
     }
 
