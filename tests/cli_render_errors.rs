@@ -104,6 +104,21 @@ fn cases() -> Vec<(&'static str, &'static str, Vec<&'static str>)> {
             "eye = [0.0, -3.0]",
             vec!["scene.toml:3:"],
         ),
+        (
+            "resolution = [8, 8]",
+            "resolution = [8, 8]\n\n[render]\nbranching = \"sometimes\"",
+            vec!["scene.toml:9:", "render.branching", "hybrid:K"],
+        ),
+        (
+            "resolution = [8, 8]",
+            "resolution = [8, 8]\n\n[render]\nspectral = \"hero:0\"",
+            vec!["scene.toml:9:", "render.spectral", "K ≥ 1"],
+        ),
+        (
+            "resolution = [8, 8]",
+            "resolution = [8, 8]\n\n[render]\npolarization = \"half\"",
+            vec!["scene.toml:9:", "render.polarization"],
+        ),
     ]
 }
 
@@ -155,6 +170,11 @@ fn bad_flags_exit_2() {
         vec!["render", "--prune", "-1"],
         vec!["render", "--wavelength", "1200"],
         vec!["render", "--wavelengths", "2"],
+        vec!["render", "--branching", "sometimes"],
+        vec!["render", "--spectral", "hero:0"],
+        vec!["render", "--polarization", "half"],
+        vec!["render", "--dispersion", "maybe"],
+        vec!["render", "--quality", "best"],
         vec!["render", "-o", "no/such/dir/x.png"],
         vec!["render", "no-such-scene.toml"],
     ] {
