@@ -167,3 +167,118 @@ radiance = 3.0
         assert!((s[0] - mid).abs() < 1e-3 * mid, "eps {eps}: {s:?} vs {mid}");
     }
 }
+
+/// Renders `mesh` (a path under scenes/, or a built-in) as `medium` over a
+/// uniform light and returns the film and the brightest radiance any pixel
+/// could see at 580 nm.
+fn gem_over_light(
+    mesh: &str,
+    (scale, tz): (f64, f64),
+    medium: &str,
+    depth: u32,
+    prune: f64,
+) -> (
+    spar::render::film::Film,
+    spar::render::integrator::Stats,
+    f64,
+) {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mesh = if mesh.starts_with("builtin:") {
+        mesh.to_string()
+    } else {
+        root.join(mesh).to_string_lossy().into_owned()
+    };
+    let axis = if medium == "calcite" {
+        "optic_axis = [0.2, 0.5, 0.8]"
+    } else {
+        ""
+    };
+    let toml = format!(
+        r#"
+[camera]
+eye = [0.3, -2.6, 2.4]
+look_at = [0.0, 0.0, 0.0]
+up = [0.0, 0.0, 1.0]
+fov = 24.0
+resolution = [6, 6]
+samples = 2
+[render]
+max_depth = {depth}
+prune = {prune:e}
+[[object]]
+mesh = "{mesh}"
+medium = "{medium}"
+{axis}
+transform = {{ scale = {scale:e}, translate = [0.0, 0.0, {tz:e}] }}
+[[light]]
+corners = [[-3.0, -3.0, -1.5], [3.0, -3.0, -1.5], [3.0, 3.0, -1.5], [-3.0, 3.0, -1.5]]
+radiance = 1.0
+polarization = {{ linear = [1.0, 0.3, 0.0] }}
+[background]
+radiance = 0.3
+"#
+    );
+    let (scene, _d) = scene(&toml, &[]);
+    let (film, stats) = render_at(&scene, &[580.0]);
+    (film, stats, spar::spectrum::cie::d65(580.0))
+}
+
+/// Passive optics cannot make light brighter than its brightest source, or
+/// more than fully polarized; every value must be finite.
+fn assert_physical(film: &spar::render::film::Film, brightest: f64, what: &str) {
+    for y in 0..film.height {
+        for x in 0..film.width {
+            let s = film.stokes(x, y, 0);
+            assert!(s.iter().all(|v| v.is_finite()), "{what}: {s:?}");
+            // f32 sums: a few roundings of slack.
+            let slack = 1.0 + 1e-6;
+            assert!(
+                s[0] >= 0.0 && s[0] <= brightest * slack,
+                "{what}: S0 {}",
+                s[0]
+            );
+            let pol = (s[1] * s[1] + s[2] * s[2] + s[3] * s[3]).sqrt();
+            assert!(
+                pol <= s[0] * slack + 1e-12,
+                "{what}: |S123| {pol} > S0 {}",
+                s[0]
+            );
+        }
+    }
+}
+
+#[test]
+fn real_cuts_with_near_degenerate_triangles_render_physically() {
+    // The OpenSCAD-made cuts have facets whose triangulations contain
+    // slivers (facet normals from Newell's method keep them flat); the
+    // triangulated trichecker has every facet split into thin fans.
+    // (mesh, scale and lift to about unit size around the origin)
+    for (mesh, fit) in [
+        ("gems/openscad_brilliant.obj", (1.0 / 25.0, -1.0)),
+        ("gems/openscad_portuguese.obj", (1.0 / 7.0, -0.7)),
+        ("gems/openscad_rose.obj", (1.0 / 25.0, -1.0)),
+        ("gems/openscad_swiss.obj", (1.0 / 25.0, -1.0)),
+        ("gems/trichecker12_tri.obj", (1.0, 0.0)),
+    ] {
+        for medium in ["diamond", "calcite"] {
+            let (film, stats, brightest) = gem_over_light(mesh, fit, medium, 16, 1e-5);
+            assert_physical(&film, brightest, &format!("{mesh} in {medium}"));
+            assert!(stats.nodes > 36, "{mesh}: the gem must be hit");
+        }
+    }
+}
+
+#[test]
+fn very_deep_trees_stay_finite_and_bounded() {
+    // Glass: depth 400 with pruning at 1e-13 (total internal reflection
+    // keeps paths alive for hundreds of bounces). Calcite: depth 80 with
+    // pruning at 1e-7 (four-way branching).
+    let (film, stats, brightest) =
+        gem_over_light("builtin:brilliant", (1.0 / 25.0, -1.0), "n-bk7", 400, 1e-13);
+    assert_physical(&film, brightest, "glass, depth 400");
+    assert!(stats.nodes > 1000);
+    let (film, stats, brightest) =
+        gem_over_light("builtin:brilliant", (1.0 / 25.0, -1.0), "calcite", 80, 1e-7);
+    assert_physical(&film, brightest, "calcite, depth 80");
+    assert!(stats.nodes > 1000);
+}
