@@ -125,7 +125,7 @@ pub fn validate_meshes(meshes: &[TriangleMesh<'_>]) -> Result<(), AccelError> {
 pub enum AccelKind {
     /// Embree 3 (only in builds with the `native` feature).
     Embree,
-    /// spar's own BVH in Rust ([`bvh::RustBvh`]).
+    /// spar's own BVH, in pure Rust (every build).
     Rust,
 }
 

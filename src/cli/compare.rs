@@ -174,6 +174,19 @@ fn fmt_time(secs: f64) -> String {
     }
 }
 
+/// CPU time of this process so far (all threads, user and system), from
+/// /proc/self/stat on Linux; `None` elsewhere.
+fn process_cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the command name (which may hold spaces) in brackets:
+    // state is the first, utime the 12th, stime the 13th, in clock ticks
+    // (USER_HZ, 100 on Linux).
+    let rest = &stat[stat.rfind(')')? + 1..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: f64 = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
+}
+
 pub fn run(args: &CompareArgs) -> Result<(), CliError> {
     run_to(args, &mut std::io::stdout().lock())
 }
@@ -229,9 +242,17 @@ pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
     let threads = args.threads.unwrap_or(0);
     let kinds = [AccelKind::Embree, AccelKind::Rust];
     let mut runs: Vec<Rendered> = Vec::new();
+    // CPU seconds of each backend's build and render, all threads.
+    let mut cpu: [Option<f64>; 2] = [None; 2];
     for round in 0..args.repeat {
         for (i, kind) in kinds.into_iter().enumerate() {
+            let c0 = process_cpu_seconds();
             let r = render_film(&scene, &modes, args.wavelength, threads, false, kind)?;
+            let c = c0.zip(process_cpu_seconds()).map(|(a, b)| b - a);
+            cpu[i] = match (cpu[i], c) {
+                (Some(best), Some(c)) => Some(best.min(c)),
+                (_, c) => c,
+            };
             if round == 0 {
                 runs.push(r);
             } else {
@@ -266,18 +287,19 @@ pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
     writeln!(out).map_err(io)?;
     writeln!(
         out,
-        "{:<8} {:>12} {:>12} {:>14} {:>14}",
-        "backend", "accel build", "render", "rays", "rays/s"
+        "{:<8} {:>12} {:>12} {:>12} {:>14} {:>14}",
+        "backend", "accel build", "render", "CPU", "rays", "rays/s"
     )
     .map_err(io)?;
     let rate = |r: &Rendered| r.stats.rays as f64 / r.render_time.as_secs_f64().max(1e-9);
-    for (kind, r) in kinds.iter().zip(&runs) {
+    for ((kind, r), c) in kinds.iter().zip(&runs).zip(cpu) {
         writeln!(
             out,
-            "{:<8} {:>12} {:>12} {:>14} {:>12.3} M",
+            "{:<8} {:>12} {:>12} {:>12} {:>14} {:>12.3} M",
             kind.name(),
             fmt_time(r.accel_time.as_secs_f64()),
             fmt_time(r.render_time.as_secs_f64()),
+            c.map_or("-".into(), |c| format!("{c:.2} s")),
             r.stats.rays,
             rate(r) / 1e6
         )
@@ -290,6 +312,17 @@ pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
         runs[1].accel_time.as_secs_f64() / runs[0].accel_time.as_secs_f64().max(1e-12)
     )
     .map_err(io)?;
+    if let [Some(e), Some(r)] = cpu {
+        // On a machine shared with other work, CPU time moves less than
+        // wall time.
+        writeln!(
+            out,
+            "CPU time ratio rust/embree: {:.3} (rays per CPU second: {:.3})",
+            r / e.max(1e-9),
+            (runs[1].stats.rays as f64 / r.max(1e-9)) / (runs[0].stats.rays as f64 / e.max(1e-9))
+        )
+        .map_err(io)?;
+    }
     if runs[0].stats.rays != runs[1].stats.rays {
         writeln!(
             out,
