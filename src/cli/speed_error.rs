@@ -450,7 +450,10 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
     let (half_a, half_b) = match &args.reference {
         Some(p) if p.exists() => load_reference(p, &identity, &lambdas)?,
         _ => {
-            say(&format!("rendering the reference: {} (two halves)", ref_config.label));
+            say(&format!(
+                "rendering the reference: {} (two halves)",
+                ref_config.label
+            ));
             let mut halves = Vec::new();
             let mut seconds = 0.0;
             for k in 0..2 {
