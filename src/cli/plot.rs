@@ -2,7 +2,7 @@
 //! memory and written through spar's image writer): RMSE against time on
 //! log axes, one colour per mode, the Pareto front joined and labelled.
 
-use super::speed_error::{pareto_front, Measured};
+use super::speed_error::{fronts, Measured};
 use crate::image::{self, Encoding, Image, PixelType, WriteOptions};
 use crate::render::output::OutputMode;
 use plotters::prelude::*;
@@ -92,6 +92,7 @@ pub fn pareto_plot(path: &Path, results: &[Measured], modes: &[OutputMode]) -> R
             RGBColor(255, 127, 14),
             RGBColor(140, 86, 75),
         ];
+        let fronts = fronts(results, modes.len());
         for (k, mode) in modes.iter().enumerate() {
             let colour = palette[k % palette.len()];
             let pts: Vec<(f64, f64)> = results
@@ -106,19 +107,14 @@ pub fn pareto_plot(path: &Path, results: &[Measured], modes: &[OutputMode]) -> R
                 .map_err(|e| format!("plot: {e}"))?
                 .label(format!("{} RMSE", mode.name()))
                 .legend(move |(x, y)| Circle::new((x + 10, y), 5, colour.filled()));
-            let front = pareto_front(
-                &results
-                    .iter()
-                    .map(|r| (r.seconds, r.errors[k].rmse))
-                    .collect::<Vec<_>>(),
-            );
+            let front = &fronts[k];
             chart
                 .draw_series(LineSeries::new(
                     front.iter().map(|&i| pts[i]),
                     colour.stroke_width(2),
                 ))
                 .map_err(|e| format!("plot: {e}"))?;
-            for &i in &front {
+            for &i in front {
                 chart
                     .draw_series(std::iter::once(Circle::new(pts[i], 6, colour.filled())))
                     .map_err(|e| format!("plot: {e}"))?;

@@ -536,6 +536,20 @@ fn row(m: &Measured, modes: &[OutputMode]) -> String {
     s
 }
 
+/// For each mode, the Pareto front of (time, RMSE) over the results.
+pub fn fronts(results: &[Measured], modes: usize) -> Vec<Vec<usize>> {
+    (0..modes)
+        .map(|k| {
+            pareto_front(
+                &results
+                    .iter()
+                    .map(|r| (r.seconds, r.errors[k].rmse))
+                    .collect::<Vec<_>>(),
+            )
+        })
+        .collect()
+}
+
 /// The CSV: one row per configuration.
 pub fn csv(results: &[Measured], modes: &[OutputMode]) -> String {
     let mut s = String::from("config,seconds,rays");
@@ -546,16 +560,7 @@ pub fn csv(results: &[Measured], modes: &[OutputMode]) -> String {
         let _ = write!(s, ",{}_pareto", m.name());
     }
     s.push('\n');
-    let fronts: Vec<Vec<usize>> = (0..modes.len())
-        .map(|k| {
-            pareto_front(
-                &results
-                    .iter()
-                    .map(|r| (r.seconds, r.errors[k].rmse))
-                    .collect::<Vec<_>>(),
-            )
-        })
-        .collect();
+    let fronts = fronts(results, modes.len());
     for (i, r) in results.iter().enumerate() {
         let _ = write!(s, "\"{}\",{:.4},{}", r.config.label, r.seconds, r.rays);
         for e in &r.errors {
@@ -572,16 +577,7 @@ pub fn csv(results: &[Measured], modes: &[OutputMode]) -> String {
 /// The Markdown table of the results, the Pareto points of each mode
 /// starred.
 pub fn table(results: &[Measured], modes: &[OutputMode]) -> String {
-    let fronts: Vec<Vec<usize>> = (0..modes.len())
-        .map(|k| {
-            pareto_front(
-                &results
-                    .iter()
-                    .map(|r| (r.seconds, r.errors[k].rmse))
-                    .collect::<Vec<_>>(),
-            )
-        })
-        .collect();
+    let fronts = fronts(results, modes.len());
     let mut s = String::from("| settings | time (s) | rays |");
     for m in modes {
         let _ = write!(s, " {0} RMSE | {0} max |", m.name());
