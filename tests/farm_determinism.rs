@@ -2,7 +2,6 @@
 //! tilings, random sample-block splits, thread counts and tile sizes, each
 //! part written to and read back from its EXR file, merged in a random
 //! order. And a render stopped and resumed equals an uninterrupted one.
-#![cfg(feature = "native")]
 
 mod farm_common;
 
