@@ -26,7 +26,9 @@ if [ "$(id -u)" != 0 ]; then
     echo "tests/slurm/run.sh: FAILED: the test cluster runs as root" >&2
     exit 1
 fi
-SPAR=${SPAR:-$PWD/${CARGO_TARGET_DIR:-target}/release/spar}
+TARGET_DIR=${CARGO_TARGET_DIR:-target}
+case $TARGET_DIR in /*) ;; *) TARGET_DIR=$PWD/$TARGET_DIR ;; esac
+SPAR=${SPAR:-$TARGET_DIR/release/spar}
 [ -x "$SPAR" ] || cargo build --release
 W=$(mktemp -d /tmp/spar-slurm.XXXXXX)
 source tests/slurm/cluster.sh
