@@ -28,7 +28,9 @@
 # idiff (openimageio-tools) and GNU time (/usr/bin/time).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-SPAR=${SPAR:-$PWD/${CARGO_TARGET_DIR:-target}/release/spar}
+TARGET_DIR=${CARGO_TARGET_DIR:-target}
+case $TARGET_DIR in /*) ;; *) TARGET_DIR=$PWD/$TARGET_DIR ;; esac
+SPAR=${SPAR:-$TARGET_DIR/release/spar}
 SCENE=scenes/glass-unpolarized.toml
 SAMPLES=
 THREADS=$(nproc)
