@@ -161,7 +161,7 @@ look_at = [0.0, 0.0, 0.0]
 up = [0.0, 1.0, 0.0]
 fov = 0.1718873385
 resolution = [8, 120]
-samples = 8
+samples = 64
 [render]
 max_depth = 4
 prune = 0.0
@@ -229,12 +229,19 @@ radiance = 1.0
     assert!(pa > 0.99 && pb > 0.99, "P {pa} {pb}");
     let diff = (psia - psib).abs();
     assert!((diff - 90.0).abs() < 1.0, "azimuths {psia} {psib}");
-    // Each carries half an unpolarized beam's transmitted power: equal peaks.
+    // Each carries about half an unpolarized beam's transmitted power
+    // (0.4405 and 0.4526 of it through a slab, optics.md §6): equal powers
+    // within 5 %. The power of an image is its sum over the rows around its
+    // peak; a peak row alone depends on where the 2-row-wide line falls
+    // within it, and at 8 samples per pixel the sums still vary by several
+    // percent with the sample positions, hence 64.
+    let power = |p: usize| -> f64 { profile[p.saturating_sub(4)..(p + 5).min(120)].iter().sum() };
+    eprintln!("slab: powers {} {}", power(p1), power(p2));
     assert!(
-        (profile[p1] / profile[p2] - 1.0).abs() < 0.05,
-        "peaks {} {}",
-        profile[p1],
-        profile[p2]
+        (power(p1) / power(p2) - 1.0).abs() < 0.05,
+        "powers {} {}",
+        power(p1),
+        power(p2)
     );
 }
 

@@ -345,8 +345,8 @@ pub fn render_part(
                         } else {
                             0
                         };
-                        let fx = x as f64 + key.uniform(dim::PIXEL_X);
-                        let fy = y as f64 + key.uniform(dim::PIXEL_Y);
+                        let (jx, jy) = key.pixel_position();
+                        let (fx, fy) = (x as f64 + jx, y as f64 + jy);
                         let d = camera.direction(fx, fy);
                         let (bx, by) = camera.stokes_frame(d);
                         let leaf = Node {

@@ -15,7 +15,8 @@ pub struct SampleKey {
 
 /// Dimensions used by the renderer, so two uses never share a number.
 pub mod dim {
-    /// Sub-pixel position, x and y.
+    /// Sub-pixel position, x and y (the per-pixel offsets of
+    /// [`SampleKey::pixel_position`]).
     pub const PIXEL_X: u32 = 0;
     pub const PIXEL_Y: u32 = 1;
     /// Offset of the rotating wavelength strata.
@@ -58,11 +59,71 @@ impl SampleKey {
     pub fn uniform(&self, dimension: u32) -> f64 {
         (self.bits(dimension) >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
     }
+
+    /// The sub-pixel position of this sample, in [0, 1)²: Roberts' R2
+    /// low-discrepancy sequence (additive recurrence on the plastic number,
+    /// Roberts 2018), shifted by a random offset per pixel (a
+    /// Cranley–Patterson rotation). Every position is uniform on the pixel
+    /// (unbiased), the positions of one pixel spread evenly (edge error
+    /// falls nearly as 1/N instead of 1/√N), and each depends only on
+    /// (seed, pixel, sample): a sample block renders the same positions
+    /// as the whole render, whatever the sample count.
+    #[inline]
+    pub fn pixel_position(&self) -> (f64, f64) {
+        const PLASTIC: f64 = 1.324_717_957_244_746;
+        const A1: f64 = 1.0 / PLASTIC;
+        const A2: f64 = 1.0 / (PLASTIC * PLASTIC);
+        let pixel = SampleKey { sample: 0, ..*self };
+        let (u, v) = (pixel.uniform(dim::PIXEL_X), pixel.uniform(dim::PIXEL_Y));
+        let n = self.sample as f64;
+        ((u + n * A1).fract(), (v + n * A2).fract())
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn pixel_positions_are_uniform_and_spread_evenly() {
+        // A pixel cut by an edge: the area of [0,1)² under x + 0.7 y < 0.8
+        // is ∫₀¹ (0.8 − 0.7 y) dy = 0.45. Estimated from 64 positions in
+        // each of 2000 pixels, once with the pixel positions and once with
+        // independent uniform positions from the same keys (the control:
+        // standard deviation sqrt(0.45 · 0.55 / 64) = 0.062 per pixel).
+        // Low discrepancy must cut the RMS error over pixels at least
+        // threefold, and the mean over all pixels must be unbiased (within
+        // 5 standard errors of the control's).
+        let inside = |(x, y): (f64, f64)| x + 0.7 * y < 0.8;
+        let estimate = |pixel: u64, position: &dyn Fn(SampleKey) -> (f64, f64)| {
+            let hits = (0..64u32)
+                .filter(|&sample| {
+                    let p = position(SampleKey {
+                        seed: 3,
+                        pixel,
+                        sample,
+                    });
+                    assert!((0.0..1.0).contains(&p.0) && (0.0..1.0).contains(&p.1));
+                    inside(p)
+                })
+                .count();
+            hits as f64 / 64.0
+        };
+        let iid = |k: SampleKey| (k.uniform(dim::PIXEL_X), k.uniform(dim::PIXEL_Y));
+        let ld = |k: SampleKey| k.pixel_position();
+        let (mut sq_ld, mut sq_iid, mut total) = (0.0, 0.0, 0.0);
+        for pixel in 0..2000u64 {
+            let e = estimate(pixel, &ld);
+            sq_ld += (e - 0.45f64).powi(2);
+            sq_iid += (estimate(pixel, &iid) - 0.45f64).powi(2);
+            total += e;
+        }
+        let (rms_ld, rms_iid) = ((sq_ld / 2000.0).sqrt(), (sq_iid / 2000.0).sqrt());
+        assert!((rms_iid - 0.062).abs() < 0.01, "control RMS {rms_iid}");
+        assert!(rms_ld < rms_iid / 3.0, "RMS {rms_ld} vs {rms_iid} i.i.d.");
+        let mean = total / 2000.0;
+        assert!((mean - 0.45).abs() < 5.0 * 0.062 / 2000f64.sqrt(), "mean {mean}");
+    }
 
     #[test]
     fn same_key_same_number_and_range() {
