@@ -122,7 +122,10 @@ mod tests {
         assert!((rms_iid - 0.062).abs() < 0.01, "control RMS {rms_iid}");
         assert!(rms_ld < rms_iid / 3.0, "RMS {rms_ld} vs {rms_iid} i.i.d.");
         let mean = total / 2000.0;
-        assert!((mean - 0.45).abs() < 5.0 * 0.062 / 2000f64.sqrt(), "mean {mean}");
+        assert!(
+            (mean - 0.45).abs() < 5.0 * 0.062 / 2000f64.sqrt(),
+            "mean {mean}"
+        );
     }
 
     #[test]
