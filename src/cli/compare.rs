@@ -16,7 +16,6 @@ use super::CliError;
 use crate::accel::AccelKind;
 use crate::image::{Image, PixelType, WriteOptions};
 use crate::render::output::{develop, OutputMode};
-use crate::scene::{builtin, Scene};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -201,18 +200,9 @@ pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
                 .into(),
         ));
     }
-    let mut scene = match &args.scene {
-        Some(path) => Scene::load(path).map_err(|e| input(e.to_string()))?,
-        None => Scene::parse(builtin::DEFAULT_SCENE, "(default scene)", Path::new("."))
-            .map_err(|e| CliError::Failed(e.to_string()))?,
-    };
+    let mut scene = super::render::load_scene(args.scene.as_deref())?;
     args.overrides.apply(&mut scene)?;
-    if !(args.wavelength.is_finite() && (360.0..=830.0).contains(&args.wavelength)) {
-        return Err(input(format!(
-            "--wavelength {} is outside 360–830 nm",
-            args.wavelength
-        )));
-    }
+    super::render::check_wavelength(args.wavelength)?;
     if args.mode.contains(&OutputMode::Color) {
         crate::spectrum::Observer::new(&scene.settings.wavelengths)
             .map_err(|e| input(format!("wavelengths for the color mode: {e}")))?;

@@ -696,21 +696,33 @@ impl Signals {
     }
 }
 
+/// The scene file at `path` (a user error if it is bad), or the embedded
+/// default scene.
+pub fn load_scene(path: Option<&Path>) -> Result<Scene, CliError> {
+    match path {
+        Some(path) => Scene::load(path).map_err(|e| CliError::Input(e.to_string())),
+        None => Scene::parse(builtin::DEFAULT_SCENE, "(default scene)", Path::new("."))
+            .map_err(|e| CliError::Failed(e.to_string())),
+    }
+}
+
+/// Checks `--wavelength` (a single-wavelength mode's wavelength).
+pub fn check_wavelength(nm: f64) -> Result<(), CliError> {
+    if nm.is_finite() && (360.0..=830.0).contains(&nm) {
+        Ok(())
+    } else {
+        Err(CliError::Input(format!(
+            "--wavelength {nm} is outside 360–830 nm"
+        )))
+    }
+}
+
 pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let input = CliError::Input;
     let started = Instant::now();
-    let mut scene = match &args.scene {
-        Some(path) => Scene::load(path).map_err(|e| input(e.to_string()))?,
-        None => Scene::parse(builtin::DEFAULT_SCENE, "(default scene)", Path::new("."))
-            .map_err(|e| CliError::Failed(e.to_string()))?,
-    };
+    let mut scene = load_scene(args.scene.as_deref())?;
     let block = args.overrides.apply_with_block(&mut scene)?;
-    if !(args.wavelength.is_finite() && (360.0..=830.0).contains(&args.wavelength)) {
-        return Err(input(format!(
-            "--wavelength {} is outside 360–830 nm",
-            args.wavelength
-        )));
-    }
+    check_wavelength(args.wavelength)?;
     if args.mode.contains(&OutputMode::Color) {
         crate::spectrum::Observer::new(&scene.settings.wavelengths)
             .map_err(|e| input(format!("wavelengths for the color mode: {e}")))?;

@@ -5,14 +5,13 @@
 //! error against time with the Pareto front marked
 //! (docs/speed-vs-error.md).
 
-use super::render::{render_film, AccelArgs, Rendered, SceneOverrides};
+use super::render::{render_film, AccelArgs, Rendered, SamplesArg, SceneOverrides};
 use super::CliError;
 use crate::farm::part::scene_hash;
 use crate::image::{self, Image, PixelType, WriteOptions};
-use crate::render::approx::{BranchingArg, PolarizationArg, Quality, Spectral};
 use crate::render::film::Film;
 use crate::render::output::{develop, OutputMode};
-use crate::scene::{builtin, Scene};
+use crate::scene::Scene;
 use crate::spectrum::WavelengthSet;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -57,134 +56,84 @@ pub struct SpeedErrorArgs {
     pub quiet: bool,
 }
 
-/// One point of the sweep: settings applied on top of the scene's.
-#[derive(Clone, Debug, Default, PartialEq)]
+/// One point of the sweep: settings applied on top of the scene's, as
+/// `spar render`'s flags would apply them.
+#[derive(Clone, Debug)]
 pub struct Config {
     /// The text it was parsed from (its label).
     pub label: String,
-    pub quality: Option<Quality>,
-    pub depth: Option<u32>,
-    pub prune: Option<f64>,
-    pub spp: Option<u32>,
-    pub wavelengths: Option<usize>,
-    pub spectral: Option<Spectral>,
-    pub branching: Option<BranchingArg>,
-    pub polarization: Option<PolarizationArg>,
-    pub dispersion: Option<bool>,
-    /// Another seed: the same settings as the reference with another seed
-    /// measure the reference's own noise.
-    pub seed: Option<u64>,
+    pub overrides: SceneOverrides,
 }
 
+/// The flags a configuration's keys stand for.
+#[derive(clap::Parser, Debug)]
+#[command(no_binary_name = true)]
+struct ConfigFlags {
+    #[command(flatten)]
+    overrides: SceneOverrides,
+}
+
+/// A configuration's key and the `spar render` flag it stands for.
+const KEYS: [(&str, &str); 10] = [
+    ("depth", "--max-depth"),
+    ("prune", "--prune"),
+    ("spp", "--samples"),
+    ("wavelengths", "--wavelengths"),
+    ("spectral", "--spectral"),
+    ("branching", "--branching"),
+    ("polarization", "--polarization"),
+    ("dispersion", "--dispersion"),
+    ("quality", "--quality"),
+    ("seed", "--seed"),
+];
+
 impl Config {
-    /// Parses `key=value key=value …`; an empty text is the scene as is.
+    /// Parses `key=value key=value …` (the keys of [`KEYS`]) into the
+    /// scene overrides of `spar render`; an empty text is the scene as is.
+    /// Errors name the text.
     pub fn parse(text: &str) -> Result<Config, String> {
-        let mut c = Config {
-            label: if text.trim().is_empty() {
-                "scene".into()
-            } else {
-                text.split_whitespace().collect::<Vec<_>>().join(" ")
-            },
-            ..Config::default()
+        let label = if text.trim().is_empty() {
+            "scene".to_string()
+        } else {
+            text.split_whitespace().collect::<Vec<_>>().join(" ")
         };
+        let bad = |what: &str| format!("`{text}`: {what}");
+        let mut flags = Vec::new();
         for item in text.split_whitespace() {
             let (k, v) = item
                 .split_once('=')
-                .ok_or_else(|| format!("`{item}` is not key=value"))?;
-            let bad = |what: &str| format!("`{item}`: {what}");
-            match k {
-                "quality" => {
-                    c.quality = Some(match v {
-                        "draft" => Quality::Draft,
-                        "default" => Quality::Default,
-                        "reference" => Quality::Reference,
-                        _ => return Err(bad("quality is draft, default or reference")),
-                    })
-                }
-                "depth" => {
-                    c.depth = Some(
-                        v.parse()
-                            .ok()
-                            .filter(|d| *d <= 1000)
-                            .ok_or_else(|| bad("depth is a whole number up to 1000"))?,
-                    )
-                }
-                "prune" => {
-                    c.prune = Some(
-                        v.parse::<f64>()
-                            .ok()
-                            .filter(|p| p.is_finite() && *p >= 0.0)
-                            .ok_or_else(|| bad("prune is a number ≥ 0"))?,
-                    )
-                }
-                "spp" => {
-                    c.spp = Some(
-                        v.parse()
-                            .ok()
-                            .filter(|s| *s >= 1)
-                            .ok_or_else(|| bad("spp is a whole number ≥ 1"))?,
-                    )
-                }
-                "wavelengths" => {
-                    c.wavelengths = Some(
-                        v.parse()
-                            .ok()
-                            .filter(|n| *n >= 1)
-                            .ok_or_else(|| bad("wavelengths is a count ≥ 1"))?,
-                    )
-                }
-                "spectral" => c.spectral = Some(v.parse().map_err(|e: String| bad(&e))?),
-                "branching" => c.branching = Some(v.parse().map_err(|e: String| bad(&e))?),
-                "polarization" => c.polarization = Some(v.parse().map_err(|e: String| bad(&e))?),
-                "seed" => c.seed = Some(v.parse().map_err(|_| bad("seed is a whole number ≥ 0"))?),
-                "dispersion" => {
-                    c.dispersion =
-                        Some(crate::render::approx::parse_on_off(v).map_err(|e| bad(&e))?)
-                }
-                _ => {
-                    return Err(bad(
-                        "unknown key; keys are depth, prune, spp, wavelengths, spectral, \
-                         branching, polarization, dispersion, quality, seed",
-                    ))
-                }
-            }
+                .ok_or_else(|| bad(&format!("`{item}` is not key=value")))?;
+            let flag = KEYS.iter().find(|(key, _)| *key == k).ok_or_else(|| {
+                let keys: Vec<&str> = KEYS.iter().map(|(key, _)| *key).collect();
+                bad(&format!("unknown key `{k}`; keys are {}", keys.join(", ")))
+            })?;
+            flags.push(format!("{}={v}", flag.1));
         }
-        Ok(c)
+        let parsed = <ConfigFlags as clap::Parser>::try_parse_from(&flags).map_err(|e| {
+            let msg = e.to_string();
+            let first = msg.lines().next().unwrap_or_default();
+            bad(first.trim_start_matches("error: "))
+        })?;
+        // What SceneOverrides::apply refuses that needs no scene to see,
+        // refused here already.
+        match parsed.overrides.samples {
+            Some(SamplesArg::Count(0)) => return Err(bad("spp must be at least 1")),
+            Some(SamplesArg::Block { .. }) => return Err(bad("spp is a count per pixel")),
+            _ => {}
+        }
+        Ok(Config {
+            label,
+            overrides: parsed.overrides,
+        })
     }
 
-    /// The scene with these settings (a preset first, then the rest).
+    /// The scene with these settings (a preset first, then the rest),
+    /// checked as `spar render` checks its flags.
     pub fn apply(&self, scene: &Scene) -> Result<Scene, String> {
         let mut s = scene.clone();
-        if let Some(q) = self.quality {
-            q.apply(&mut s);
-        }
-        if let Some(d) = self.depth {
-            s.settings.max_depth = d;
-        }
-        if let Some(p) = self.prune {
-            s.settings.prune = p;
-        }
-        if let Some(n) = self.spp {
-            s.samples = n;
-        }
-        if let Some(n) = self.wavelengths {
-            s.settings.wavelengths = WavelengthSet::uniform(n).map_err(|e| e.to_string())?;
-        }
-        if let Some(v) = self.spectral {
-            s.settings.approx.spectral = v;
-        }
-        if let Some(v) = self.branching {
-            s.settings.approx.strategy.branching = v.0;
-        }
-        if let Some(v) = self.polarization {
-            s.settings.approx.strategy.polarization = v.0;
-        }
-        if let Some(v) = self.dispersion {
-            s.settings.approx.dispersion = v;
-        }
-        if let Some(v) = self.seed {
-            s.settings.seed = v;
-        }
+        self.overrides
+            .apply(&mut s)
+            .map_err(|e| format!("`{}`: {e}", self.label))?;
         Ok(s)
     }
 }
@@ -239,17 +188,10 @@ pub struct ModeError {
 /// RMSE and largest absolute difference over every value of two images of
 /// one shape.
 pub fn image_error(a: &Image, b: &Image) -> ModeError {
-    assert_eq!(a.data().len(), b.data().len());
-    let n = a.data().len().max(1) as f64;
-    let (mut sq, mut max) = (0.0f64, 0.0f64);
-    for (&x, &y) in a.data().iter().zip(b.data()) {
-        let d = (x as f64 - y as f64).abs();
-        sq += d * d;
-        max = max.max(d);
-    }
+    let (d, _) = super::compare::difference(a.data(), b.data(), a.channels().len());
     ModeError {
-        rmse: (sq / n).sqrt(),
-        max,
+        rmse: d.rmse,
+        max: d.max_abs,
     }
 }
 
@@ -280,13 +222,9 @@ pub fn pareto_front(points: &[(f64, f64)]) -> Vec<usize> {
 }
 
 fn load_scene(args: &SpeedErrorArgs) -> Result<Scene, CliError> {
-    let input = CliError::Input;
-    let mut scene = match &args.scene {
-        Some(path) => Scene::load(path).map_err(|e| input(e.to_string()))?,
-        None => Scene::parse(builtin::DEFAULT_SCENE, "(default scene)", Path::new("."))
-            .map_err(|e| CliError::Failed(e.to_string()))?,
-    };
+    let mut scene = super::render::load_scene(args.scene.as_deref())?;
     args.overrides.apply(&mut scene)?;
+    super::render::check_wavelength(args.wavelength)?;
     Ok(scene)
 }
 
@@ -427,6 +365,14 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
         .map_err(|e| input(format!("--config {e}")))?;
     let ref_config = Config::parse(&args.reference_config)
         .map_err(|e| input(format!("--reference-config {e}")))?;
+    // Every configuration checked before anything is rendered or written.
+    let ref_scene = ref_config
+        .apply(&scene)
+        .map_err(|e| input(format!("--reference-config {e}")))?;
+    let scenes = configs
+        .iter()
+        .map(|c| c.apply(&scene).map_err(|e| input(format!("--config {e}"))))
+        .collect::<Result<Vec<Scene>, CliError>>()?;
     std::fs::create_dir_all(&args.output).map_err(|e| {
         input(format!(
             "{}: cannot create the directory: {e}",
@@ -443,7 +389,6 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
 
     // The reference: the scene's wavelengths (a colour set of the sweep
     // may be smaller; images are compared after developing).
-    let ref_scene = ref_config.apply(&scene).map_err(input)?;
     let colour = ref_scene.settings.wavelengths.clone();
     let lambdas = super::render::lambdas_for(&ref_scene, &modes, args.wavelength);
     let identity = reference_identity(&scene, &ref_config, &lambdas);
@@ -493,9 +438,8 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
     say(about.trim_end());
 
     let mut results = Vec::new();
-    for config in &configs {
-        let s = config.apply(&scene).map_err(input)?;
-        let r: Rendered = render_film(&s, &modes, args.wavelength, threads, false, accel)?;
+    for (config, s) in configs.iter().zip(&scenes) {
+        let r: Rendered = render_film(s, &modes, args.wavelength, threads, false, accel)?;
         let images = developed(&r.film, &modes, &s.settings.wavelengths, args.wavelength)?;
         let errors: Vec<ModeError> = images
             .iter()
@@ -512,14 +456,16 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
         results.push(m);
     }
 
+    // The plot first (written atomically): if it fails, no text file of
+    // this run is left either.
+    let plot_path = args.output.join("pareto.png");
+    super::plot::pareto_plot(&plot_path, &results, &modes).map_err(CliError::Failed)?;
     let about_path = args.output.join("reference.txt");
     std::fs::write(&about_path, &about)
         .map_err(|e| CliError::Failed(format!("{}: {e}", about_path.display())))?;
     let csv_path = args.output.join("results.csv");
     std::fs::write(&csv_path, csv(&results, &modes))
         .map_err(|e| CliError::Failed(format!("{}: {e}", csv_path.display())))?;
-    let plot_path = args.output.join("pareto.png");
-    super::plot::pareto_plot(&plot_path, &results, &modes).map_err(CliError::Failed)?;
     if !args.quiet {
         print!("{}", table(&results, &modes));
         println!("wrote {} and {}", csv_path.display(), plot_path.display());
@@ -601,11 +547,13 @@ pub fn table(results: &[Measured], modes: &[OutputMode]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::approx::Spectral;
 
     #[test]
     fn configs_parse_and_name_bad_items() {
         let c = Config::parse("depth=8 prune=1e-2 spectral=hero:3 branching=hybrid:2").unwrap();
-        assert_eq!(c.depth, Some(8));
+        let c = &c.overrides;
+        assert_eq!(c.max_depth, Some(8));
         assert_eq!(c.prune, Some(1e-2));
         assert_eq!(c.spectral, Some(Spectral::Hero { per_sample: 3 }));
         assert_eq!(Config::parse("").unwrap().label, "scene");
