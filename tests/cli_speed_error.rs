@@ -49,7 +49,9 @@ fn a_sweep_writes_csv_table_and_plot_and_reuses_its_reference() {
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(
         lines[0],
-        "config,seconds,rays,color_rmse,color_max,dop_rmse,dop_max,color_pareto,dop_pareto"
+        "config,seconds,rays,color_rmse,color_max,color_rmse_net,dop_rmse,dop_max,dop_rmse_net,\
+         dop-weighted_rmse,dop-weighted_max,dop-weighted_rmse_net,\
+         color_pareto,dop_pareto,dop-weighted_pareto"
     );
     assert_eq!(lines.len(), 4);
     // The scene's own settings are the reference's, but the reference's
@@ -85,7 +87,7 @@ fn a_sweep_writes_csv_table_and_plot_and_reuses_its_reference() {
     // A most accurate row of each mode is on that mode's front (of rows
     // with equal error, the fastest).
     let rows: Vec<Vec<&str>> = lines[1..].iter().map(|l| l.split(',').collect()).collect();
-    for (err_col, front_col) in [(3, 7), (5, 8)] {
+    for (err_col, front_col) in [(3, 12), (6, 13), (9, 14)] {
         let e = |r: &Vec<&str>| r[err_col].parse::<f64>().unwrap();
         let least = rows.iter().map(e).fold(f64::INFINITY, f64::min);
         assert!(
@@ -95,6 +97,17 @@ fn a_sweep_writes_csv_table_and_plot_and_reuses_its_reference() {
         assert!(rows
             .iter()
             .all(|r| r[front_col] == "0" || r[front_col] == "1"));
+    }
+    // The net error takes the reference's noise out: never above the RMSE,
+    // and below it wherever the reference has noise.
+    for r in &rows {
+        for col in [3, 6, 9] {
+            let (rmse, net) = (
+                r[col].parse::<f64>().unwrap(),
+                r[col + 2].parse::<f64>().unwrap(),
+            );
+            assert!(net.is_finite() && net >= 0.0 && net <= rmse, "{csv}");
+        }
     }
     let table = String::from_utf8_lossy(&run.stdout);
     assert!(table.contains("| settings | time (s) | rays |"), "{table}");
@@ -155,4 +168,58 @@ fn bad_configs_and_modes_exit_2_naming_the_item() {
         assert!(err.contains(needle), "{args:?}: {err}");
         assert!(!out.join("results.csv").exists());
     }
+}
+
+#[test]
+fn errors_on_every_kth_row_need_a_reference_of_those_rows() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("se");
+    let reference = dir.path().join("ref.exr");
+    let (out_s, ref_s) = (out.to_str().unwrap(), reference.to_str().unwrap());
+    let s = scene();
+    let base = |rows: &'static str| {
+        let mut a = vec![
+            "speed-error",
+            &s,
+            "-o",
+            out_s,
+            "--reference",
+            ref_s,
+            "--reference-config",
+            "spp=2",
+            "--config",
+            "",
+            "--error-rows",
+            rows,
+        ];
+        a.extend(SMALL);
+        a.iter().map(|x| x.to_string()).collect::<Vec<String>>()
+    };
+    let run = |a: &[String]| spar(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    let rows4 = run(&base("4"));
+    assert!(
+        rows4.status.success(),
+        "{}",
+        String::from_utf8_lossy(&rows4.stderr)
+    );
+    let about = std::fs::read_to_string(out.join("reference.txt")).unwrap();
+    assert!(about.contains("1 row in 4 (3 of 12 rows)"), "{about}");
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    let err: f64 = csv
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .nth(3)
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(err > 0.0 && err.is_finite(), "{csv}");
+    // A reference of some rows is not one of the whole image.
+    let whole = run(&base("1"));
+    assert_eq!(whole.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&whole.stderr).contains("not a reference"));
+    let zero = run(&base("0"));
+    assert_eq!(zero.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&zero.stderr).contains("--error-rows"));
 }

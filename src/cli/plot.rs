@@ -2,9 +2,8 @@
 //! memory and written through spar's image writer): RMSE against time on
 //! log axes, one colour per mode, the Pareto front joined and labelled.
 
-use super::speed_error::{fronts, Measured};
+use super::speed_error::{fronts, Measure, Measured};
 use crate::image::{self, Encoding, Image, PixelType, WriteOptions};
-use crate::render::output::OutputMode;
 use plotters::prelude::*;
 use std::path::Path;
 use std::sync::OnceLock;
@@ -56,7 +55,7 @@ fn decade_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
 }
 
 /// Draws the plot and writes it to `path` (PNG).
-pub fn pareto_plot(path: &Path, results: &[Measured], modes: &[OutputMode]) -> Result<(), String> {
+pub fn pareto_plot(path: &Path, results: &[Measured], modes: &[Measure]) -> Result<(), String> {
     register_font()?;
     let (w, h) = SIZE;
     let mut buf = vec![255u8; (w * h * 3) as usize];

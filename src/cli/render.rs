@@ -473,7 +473,12 @@ pub fn lambdas_for(scene: &Scene, modes: &[OutputMode], mono_nm: f64) -> Vec<f64
     lambdas
 }
 
-fn options_for(scene: &Scene, modes: &[OutputMode], mono_nm: f64, progress: bool) -> RenderOptions {
+pub(crate) fn options_for(
+    scene: &Scene,
+    modes: &[OutputMode],
+    mono_nm: f64,
+    progress: bool,
+) -> RenderOptions {
     let lambdas = lambdas_for(scene, modes, mono_nm);
     let colour = scene.settings.wavelengths.lambdas();
     let mono = modes.iter().any(|m| !m.is_spectral());
@@ -501,7 +506,7 @@ fn options_for(scene: &Scene, modes: &[OutputMode], mono_nm: f64, progress: bool
     }
 }
 
-fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, CliError> {
+pub(crate) fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, CliError> {
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()

@@ -5,12 +5,18 @@
 //! error against time with the Pareto front marked
 //! (docs/speed-vs-error.md).
 
-use super::render::{render_film, AccelArgs, Rendered, SamplesArg, SceneOverrides};
+use super::render::{
+    build_accel_kind, render_film, AccelArgs, Rendered, SamplesArg, SceneOverrides,
+};
 use super::CliError;
+use crate::accel::AccelKind;
+use crate::farm::blocks::SampleRange;
 use crate::farm::part::scene_hash;
+use crate::farm::region::Rect;
 use crate::image::{self, Image, PixelType, WriteOptions};
 use crate::render::film::Film;
 use crate::render::output::{develop, OutputMode};
+use crate::render::{render_part, Control, Outcome, PartSpec};
 use crate::scene::Scene;
 use crate::spectrum::WavelengthSet;
 use std::fmt::Write as _;
@@ -41,6 +47,12 @@ pub struct SpeedErrorArgs {
     /// Reference settings, `key=value` as for --config.
     #[arg(long, default_value = "depth=30 prune=1e-6 spp=16")]
     pub reference_config: String,
+    /// Measure errors on every K-th pixel row only (rows K/2, K/2 + K, …):
+    /// the reference renders only those rows, so a reference of a large
+    /// image costs 1/K; every configuration is still rendered and timed
+    /// whole.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    pub error_rows: u32,
     /// Wavelength of the single-wavelength modes, nm.
     #[arg(long, default_value_t = 580.0)]
     pub wavelength: f64,
@@ -183,6 +195,10 @@ pub const DEFAULT_SWEEP: &[&str] = &[
 pub struct ModeError {
     pub rmse: f64,
     pub max: f64,
+    /// The RMSE with the reference's own noise taken out,
+    /// √max(0, rmse² − r²) for a reference noise r (independent noises
+    /// add in quadrature); `rmse` until the noise is known.
+    pub net: f64,
 }
 
 /// RMSE and largest absolute difference over every value of two images of
@@ -192,7 +208,208 @@ pub fn image_error(a: &Image, b: &Image) -> ModeError {
     ModeError {
         rmse: d.rmse,
         max: d.max_abs,
+        net: d.rmse,
     }
+}
+
+/// What one error column measures: a mode's display values over every
+/// pixel, or, for the polarization ratios (dop, ellipticity, azimuth), the
+/// same weighted by the reference's intensity. A ratio is ill-conditioned
+/// where almost no light arrives (0/0 in black pixels; a trace of deep,
+/// strongly polarized light sets it anywhere in [0, 1]), and the plain
+/// RMSE counts such pixels as much as lit ones; the weighted one counts
+/// each pixel by its share of the light, as a polarimeter would.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Measure {
+    pub mode: OutputMode,
+    pub weighted: bool,
+}
+
+impl Measure {
+    pub fn name(&self) -> String {
+        if self.weighted {
+            format!("{}-weighted", self.mode.name())
+        } else {
+            self.mode.name().to_string()
+        }
+    }
+}
+
+/// The measures of `modes`: each mode's plain RMSE, then an
+/// intensity-weighted one for each polarization ratio.
+pub fn measures(modes: &[OutputMode]) -> Vec<Measure> {
+    let ratio = |m: &OutputMode| {
+        matches!(
+            m,
+            OutputMode::Dop
+                | OutputMode::Ellipticity
+                | OutputMode::EllipticityPaper
+                | OutputMode::Azimuth
+        )
+    };
+    let plain = modes.iter().map(|&mode| Measure {
+        mode,
+        weighted: false,
+    });
+    let weighted = modes.iter().filter(|m| ratio(m)).map(|&mode| Measure {
+        mode,
+        weighted: true,
+    });
+    plain.chain(weighted).collect()
+}
+
+/// RMSE over the channels of every pixel, each pixel weighted by
+/// `weights` (`√(Σ w·Σ_c d² / (C·Σ w))`); the largest difference over
+/// pixels of positive weight.
+pub fn weighted_error(a: &Image, b: &Image, weights: &[f64]) -> ModeError {
+    let c = a.channels().len();
+    assert_eq!(a.data().len(), b.data().len());
+    assert_eq!(a.data().len(), weights.len() * c);
+    let (mut sum, mut wsum, mut max) = (0.0f64, 0.0f64, 0.0f64);
+    for ((p, q), &w) in a
+        .data()
+        .chunks_exact(c)
+        .zip(b.data().chunks_exact(c))
+        .zip(weights)
+    {
+        let sq: f64 = p
+            .iter()
+            .zip(q)
+            .map(|(&x, &y)| {
+                let d = (x as f64 - y as f64).abs();
+                if w > 0.0 {
+                    max = max.max(d);
+                }
+                d * d
+            })
+            .sum();
+        sum += w * sq;
+        wsum += w;
+    }
+    let rmse = if wsum > 0.0 {
+        (sum / (wsum * c as f64)).sqrt()
+    } else {
+        0.0
+    };
+    ModeError {
+        rmse,
+        max,
+        net: rmse,
+    }
+}
+
+/// The intensity (S0 per sample) of every pixel of a film at the
+/// wavelength `nm` (one it traced).
+pub fn intensity_at(film: &Film, nm: f64) -> Option<Vec<f64>> {
+    let n = film.lambdas.len();
+    let i = film.lambdas.iter().position(|&l| (l - nm).abs() < 1e-9)?;
+    let spp = film.samples.max(1) as f64;
+    Some(
+        film.data
+            .chunks_exact(n)
+            .map(|p| (p[i][0] as f64 / spp).max(0.0))
+            .collect(),
+    )
+}
+
+/// The errors of developed images against the reference's, one per
+/// measure (`images` and `reference` in the order of `modes`).
+fn errors_of(
+    images: &[Image],
+    reference: &[Image],
+    modes: &[OutputMode],
+    measures: &[Measure],
+    weights: &[f64],
+) -> Vec<ModeError> {
+    measures
+        .iter()
+        .map(|m| {
+            let k = modes.iter().position(|&x| x == m.mode).expect("a mode");
+            if m.weighted {
+                weighted_error(&images[k], &reference[k], weights)
+            } else {
+                image_error(&images[k], &reference[k])
+            }
+        })
+        .collect()
+}
+
+/// The error with a reference noise `noise` (an RMSE) taken out.
+pub fn net_of_noise(e: ModeError, noise: f64) -> ModeError {
+    ModeError {
+        net: (e.rmse * e.rmse - noise * noise).max(0.0).sqrt(),
+        ..e
+    }
+}
+
+/// The rows whose error is measured when every `k`-th one is: `k/2`,
+/// `k/2 + k`, … (centred in their bands), all of them for `k = 1`.
+pub fn error_rows(height: u32, k: u32) -> Vec<u32> {
+    let k = k.max(1);
+    (k / 2..height).step_by(k as usize).collect()
+}
+
+/// The rows `rows` of a film, stacked into a film of `rows.len()` rows.
+pub fn film_rows(film: &Film, rows: &[u32]) -> Film {
+    let per_row = film.width as usize * film.lambdas.len();
+    let mut data = Vec::with_capacity(per_row * rows.len());
+    for &y in rows {
+        let start = y as usize * per_row;
+        data.extend_from_slice(&film.data[start..start + per_row]);
+    }
+    Film {
+        width: film.width,
+        height: rows.len() as u32,
+        lambdas: film.lambdas.clone(),
+        samples: film.samples,
+        data,
+    }
+}
+
+/// Renders only the rows `rows` of a scene's image, every sample, as a
+/// film of those rows (the values a whole render has there: every pixel
+/// is a function of seed, pixel and sample alone). Returns the film and
+/// the seconds taken.
+fn render_rows(
+    scene: &Scene,
+    modes: &[OutputMode],
+    mono_nm: f64,
+    threads: usize,
+    accel: AccelKind,
+    rows: &[u32],
+) -> Result<(Film, f64), CliError> {
+    let pool = super::render::thread_pool(threads)?;
+    let t0 = std::time::Instant::now();
+    let accel = build_accel_kind(scene, pool.current_num_threads(), accel, None)?;
+    let options = super::render::options_for(scene, modes, mono_nm, false);
+    let w = scene.camera.width;
+    let mut data = Vec::new();
+    for &y in rows {
+        let spec = PartSpec {
+            region: Rect {
+                x0: 0,
+                x1: w,
+                y0: y,
+                y1: y + 1,
+            },
+            samples: SampleRange::all(scene.samples),
+        };
+        let part = match pool
+            .install(|| render_part(scene, accel.as_ref(), &options, &spec, Control::default()))
+        {
+            Outcome::Done(part, _) => part,
+            Outcome::Stopped(..) => unreachable!("no stop flag was given"),
+        };
+        debug_assert_eq!(part.nodes.len(), 1);
+        data.extend(part.data);
+    }
+    if data.iter().any(|v| !v.is_finite()) {
+        return Err(CliError::Failed(
+            "internal error: the render produced non-finite values".into(),
+        ));
+    }
+    let film = Film::from_sums(w, rows.len() as u32, options.lambdas, scene.samples, &data);
+    Ok((film, t0.elapsed().as_secs_f64()))
 }
 
 /// One measured configuration.
@@ -201,7 +418,7 @@ pub struct Measured {
     pub config: Config,
     pub seconds: f64,
     pub rays: u64,
-    /// Per mode (in the order asked).
+    /// Per measure ([`measures`] of the modes asked).
     pub errors: Vec<ModeError>,
 }
 
@@ -229,9 +446,14 @@ fn load_scene(args: &SpeedErrorArgs) -> Result<Scene, CliError> {
 }
 
 /// The identity a saved reference must match.
-fn reference_identity(scene: &Scene, config: &Config, lambdas: &[f64]) -> String {
+fn reference_identity(scene: &Scene, config: &Config, lambdas: &[f64], rows: u32) -> String {
+    let rows = if rows > 1 {
+        format!(" error_rows={rows}")
+    } else {
+        String::new()
+    };
     format!(
-        "scene={} config={} lambdas={lambdas:?} version={}",
+        "scene={} config={} lambdas={lambdas:?}{rows} version={}",
         scene_hash(scene),
         config.label,
         crate::VERSION
@@ -391,7 +613,9 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
     // may be smaller; images are compared after developing).
     let colour = ref_scene.settings.wavelengths.clone();
     let lambdas = super::render::lambdas_for(&ref_scene, &modes, args.wavelength);
-    let identity = reference_identity(&scene, &ref_config, &lambdas);
+    let identity = reference_identity(&scene, &ref_config, &lambdas, args.error_rows);
+    let rows = error_rows(ref_scene.camera.height, args.error_rows);
+    let whole = args.error_rows == 1;
     let (half_a, half_b) = match &args.reference {
         Some(p) if p.exists() => load_reference(p, &identity, &lambdas)?,
         _ => {
@@ -405,9 +629,17 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
                 let mut half = ref_scene.clone();
                 half.samples = ref_scene.samples.div_ceil(2);
                 half.settings.seed = half_seed(ref_scene.settings.seed, k);
-                let r = render_film(&half, &modes, args.wavelength, threads, !args.quiet, accel)?;
-                seconds += (r.accel_time + r.render_time).as_secs_f64();
-                halves.push(r.film);
+                if whole {
+                    let r =
+                        render_film(&half, &modes, args.wavelength, threads, !args.quiet, accel)?;
+                    seconds += (r.accel_time + r.render_time).as_secs_f64();
+                    halves.push(r.film);
+                } else {
+                    let (film, s) =
+                        render_rows(&half, &modes, args.wavelength, threads, accel, &rows)?;
+                    seconds += s;
+                    halves.push(film);
+                }
             }
             say(&format!("rendering the reference took {seconds:.1} s"));
             let b = halves.pop().expect("two halves");
@@ -423,16 +655,38 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
     // the samples, such as colour before clamping).
     let reference = combine(&half_a, &half_b);
     let ref_images = developed(&reference, &modes, &colour, args.wavelength)?;
-    let noise: Vec<f64> = developed(&half_a, &modes, &colour, args.wavelength)?
-        .iter()
-        .zip(&developed(&half_b, &modes, &colour, args.wavelength)?)
-        .map(|(a, b)| image_error(a, b).rmse / 2.0)
-        .collect();
+    let measures = measures(&modes);
+    // Weights of the weighted measures: the reference's intensity at the
+    // single wavelength the ratio modes are traced at.
+    let weights = if measures.iter().any(|m| m.weighted) {
+        intensity_at(&reference, args.wavelength).expect("ratio modes trace --wavelength")
+    } else {
+        Vec::new()
+    };
+    let noise: Vec<f64> = errors_of(
+        &developed(&half_a, &modes, &colour, args.wavelength)?,
+        &developed(&half_b, &modes, &colour, args.wavelength)?,
+        &modes,
+        &measures,
+        &weights,
+    )
+    .iter()
+    .map(|e| e.rmse / 2.0)
+    .collect();
     let mut about = format!(
         "reference: {} ({} samples per pixel in two halves of other seeds)\n",
         ref_config.label, reference.samples
     );
-    for (m, n) in modes.iter().zip(&noise) {
+    if !whole {
+        let _ = writeln!(
+            about,
+            "errors measured on 1 row in {} ({} of {} rows)",
+            args.error_rows,
+            rows.len(),
+            ref_scene.camera.height
+        );
+    }
+    for (m, n) in measures.iter().zip(&noise) {
         let _ = writeln!(about, "reference noise estimate, {} RMSE: {n:.5}", m.name());
     }
     say(about.trim_end());
@@ -440,11 +694,16 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
     let mut results = Vec::new();
     for (config, s) in configs.iter().zip(&scenes) {
         let r: Rendered = render_film(s, &modes, args.wavelength, threads, false, accel)?;
-        let images = developed(&r.film, &modes, &s.settings.wavelengths, args.wavelength)?;
-        let errors: Vec<ModeError> = images
-            .iter()
-            .zip(&ref_images)
-            .map(|(a, b)| image_error(a, b))
+        let film = if whole {
+            r.film
+        } else {
+            film_rows(&r.film, &rows)
+        };
+        let images = developed(&film, &modes, &s.settings.wavelengths, args.wavelength)?;
+        let errors: Vec<ModeError> = errors_of(&images, &ref_images, &modes, &measures, &weights)
+            .into_iter()
+            .zip(&noise)
+            .map(|(e, &n)| net_of_noise(e, n))
             .collect();
         let m = Measured {
             config: config.clone(),
@@ -452,31 +711,38 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
             rays: r.stats.rays,
             errors,
         };
-        say(&row(&m, &modes));
+        say(&row(&m, &measures));
         results.push(m);
     }
 
     // The plot first (written atomically): if it fails, no text file of
     // this run is left either.
     let plot_path = args.output.join("pareto.png");
-    super::plot::pareto_plot(&plot_path, &results, &modes).map_err(CliError::Failed)?;
+    super::plot::pareto_plot(&plot_path, &results, &measures).map_err(CliError::Failed)?;
     let about_path = args.output.join("reference.txt");
     std::fs::write(&about_path, &about)
         .map_err(|e| CliError::Failed(format!("{}: {e}", about_path.display())))?;
     let csv_path = args.output.join("results.csv");
-    std::fs::write(&csv_path, csv(&results, &modes))
+    std::fs::write(&csv_path, csv(&results, &measures))
         .map_err(|e| CliError::Failed(format!("{}: {e}", csv_path.display())))?;
     if !args.quiet {
-        print!("{}", table(&results, &modes));
+        print!("{}", table(&results, &measures));
         println!("wrote {} and {}", csv_path.display(), plot_path.display());
     }
     Ok(())
 }
 
-fn row(m: &Measured, modes: &[OutputMode]) -> String {
+fn row(m: &Measured, modes: &[Measure]) -> String {
     let mut s = format!("{:>8.2} s {:>12} rays", m.seconds, m.rays);
     for (mode, e) in modes.iter().zip(&m.errors) {
-        let _ = write!(s, "  {} rmse {:.5} max {:.4}", mode.name(), e.rmse, e.max);
+        let _ = write!(
+            s,
+            "  {} rmse {:.5} net {:.5} max {:.4}",
+            mode.name(),
+            e.rmse,
+            e.net,
+            e.max
+        );
     }
     let _ = write!(s, "  [{}]", m.config.label);
     s
@@ -497,10 +763,10 @@ pub fn fronts(results: &[Measured], modes: usize) -> Vec<Vec<usize>> {
 }
 
 /// The CSV: one row per configuration.
-pub fn csv(results: &[Measured], modes: &[OutputMode]) -> String {
+pub fn csv(results: &[Measured], modes: &[Measure]) -> String {
     let mut s = String::from("config,seconds,rays");
     for m in modes {
-        let _ = write!(s, ",{0}_rmse,{0}_max", m.name());
+        let _ = write!(s, ",{0}_rmse,{0}_max,{0}_rmse_net", m.name());
     }
     for m in modes {
         let _ = write!(s, ",{}_pareto", m.name());
@@ -510,7 +776,7 @@ pub fn csv(results: &[Measured], modes: &[OutputMode]) -> String {
     for (i, r) in results.iter().enumerate() {
         let _ = write!(s, "\"{}\",{:.4},{}", r.config.label, r.seconds, r.rays);
         for e in &r.errors {
-            let _ = write!(s, ",{:.6e},{:.6e}", e.rmse, e.max);
+            let _ = write!(s, ",{:.6e},{:.6e},{:.6e}", e.rmse, e.max, e.net);
         }
         for f in &fronts {
             let _ = write!(s, ",{}", f.contains(&i) as u8);
@@ -522,22 +788,22 @@ pub fn csv(results: &[Measured], modes: &[OutputMode]) -> String {
 
 /// The Markdown table of the results, the Pareto points of each mode
 /// starred.
-pub fn table(results: &[Measured], modes: &[OutputMode]) -> String {
+pub fn table(results: &[Measured], modes: &[Measure]) -> String {
     let fronts = fronts(results, modes.len());
     let mut s = String::from("| settings | time (s) | rays |");
     for m in modes {
-        let _ = write!(s, " {0} RMSE | {0} max |", m.name());
+        let _ = write!(s, " {0} RMSE | {0} net | {0} max |", m.name());
     }
     s.push_str("\n|---|---:|---:|");
     for _ in modes {
-        s.push_str("---:|---:|");
+        s.push_str("---:|---:|---:|");
     }
     s.push('\n');
     for (i, r) in results.iter().enumerate() {
         let _ = write!(s, "| {} | {:.2} | {} |", r.config.label, r.seconds, r.rays);
         for (k, e) in r.errors.iter().enumerate() {
             let star = if fronts[k].contains(&i) { " *" } else { "" };
-            let _ = write!(s, " {:.4}{star} | {:.3} |", e.rmse, e.max);
+            let _ = write!(s, " {:.4}{star} | {:.4} | {:.3} |", e.rmse, e.net, e.max);
         }
         s.push('\n');
     }
@@ -587,6 +853,73 @@ mod tests {
         assert_eq!(pareto_front(&p), vec![5, 0, 1, 4]);
         // Equal points do not dominate each other.
         assert_eq!(pareto_front(&[(1.0, 1.0), (1.0, 1.0)]), vec![0, 1]);
+    }
+
+    #[test]
+    fn error_rows_are_centred_in_their_bands() {
+        assert_eq!(error_rows(4, 1), vec![0, 1, 2, 3]);
+        assert_eq!(error_rows(16, 4), vec![2, 6, 10, 14]);
+        assert_eq!(error_rows(10, 8), vec![4]);
+    }
+
+    /// The rows a reference renders alone are the rows of the whole image,
+    /// bit for bit (pixels depend on seed, pixel and sample only).
+    #[test]
+    fn rendered_rows_are_the_rows_of_a_whole_render() {
+        let mut scene = crate::cli::render::load_scene(None).unwrap();
+        scene.camera.width = 24;
+        scene.camera.height = 12;
+        scene.samples = 2;
+        let modes = [OutputMode::Color, OutputMode::Dop];
+        let kind = AccelKind::default();
+        let whole = render_film(&scene, &modes, 580.0, 2, false, kind).unwrap();
+        let rows = error_rows(12, 5);
+        assert_eq!(rows, vec![2, 7]);
+        let (film, _) = render_rows(&scene, &modes, 580.0, 2, kind, &rows).unwrap();
+        let expected = film_rows(&whole.film, &rows);
+        assert_eq!(film.width, 24);
+        assert_eq!(film.height, 2);
+        assert_eq!(film.lambdas, expected.lambdas);
+        assert!(film.data.iter().flatten().any(|&v| v > 0.0));
+        assert_eq!(film.data, expected.data);
+    }
+
+    #[test]
+    fn net_error_takes_the_reference_noise_out_in_quadrature() {
+        let e = ModeError {
+            rmse: 0.05,
+            max: 1.0,
+            net: 0.05,
+        };
+        assert!((net_of_noise(e, 0.03).net - 0.04).abs() < 1e-12);
+        assert_eq!(net_of_noise(e, 0.06).net, 0.0);
+        assert_eq!(net_of_noise(e, 0.03).rmse, 0.05);
+    }
+
+    #[test]
+    fn ratio_modes_get_a_weighted_measure() {
+        let names: Vec<String> = measures(&[OutputMode::Color, OutputMode::Dop, OutputMode::Mono])
+            .iter()
+            .map(Measure::name)
+            .collect();
+        assert_eq!(names, ["color", "dop", "mono", "dop-weighted"]);
+    }
+
+    #[test]
+    fn weighted_error_counts_pixels_by_their_weight() {
+        // Two pixels, one channel: the dark pixel's large error is
+        // weighted down.
+        let a = Image::new(2, 1, vec!["Y".into()], vec![0.0, 1.0]).unwrap();
+        let b = Image::new(2, 1, vec!["Y".into()], vec![0.1, 0.0]).unwrap();
+        let e = weighted_error(&a, &b, &[0.99, 0.01]);
+        let expected = ((0.99 * 0.01 + 0.01 * 1.0) / 1.0f64).sqrt();
+        assert!((e.rmse - expected).abs() < 1e-7, "{} {expected}", e.rmse);
+        assert_eq!(e.max, 1.0);
+        // Equal weights: the plain RMSE.
+        let plain = image_error(&a, &b);
+        assert!((weighted_error(&a, &b, &[2.0, 2.0]).rmse - plain.rmse).abs() < 1e-7);
+        // A pixel of no weight counts for nothing, not even for the max.
+        assert!((weighted_error(&a, &b, &[1.0, 0.0]).max - 0.1).abs() < 1e-7);
     }
 
     #[test]
