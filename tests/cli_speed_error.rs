@@ -223,3 +223,61 @@ fn errors_on_every_kth_row_need_a_reference_of_those_rows() {
     assert_eq!(zero.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&zero.stderr).contains("--error-rows"));
 }
+
+#[test]
+fn paired_errors_are_the_settings_own() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("se");
+    let reference = dir.path().join("ref.exr");
+    let (out_s, ref_s) = (out.to_str().unwrap(), reference.to_str().unwrap());
+    let s = scene();
+    let mut args = vec![
+        "speed-error",
+        &s,
+        "-o",
+        out_s,
+        "--paired",
+        "--reference",
+        ref_s,
+        "--reference-config",
+        "depth=20 prune=1e-6 spp=2",
+        "--config",
+        "depth=20 prune=1e-6 spp=2",
+        "--config",
+        "depth=20 prune=1e-6 spp=1",
+        "--config",
+        "depth=2 prune=1e-6 spp=2",
+    ];
+    args.extend(SMALL);
+    let run = spar(&args);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').skip(1).map(|v| v.parse().unwrap()).collect())
+        .collect();
+    // Columns after the label: seconds, rays, then rmse, max, net per
+    // measure (color, dop, dop-weighted), then the fronts.
+    let errs = |r: &Vec<f64>| [r[2], r[5], r[8]];
+    // The reference's own settings and seed: the same image.
+    assert_eq!(errs(&rows[0]), [0.0; 3], "{csv}");
+    // Half of its samples (the same first sample): some error, all of it
+    // antialiasing; depth 2 loses light at the same sample positions.
+    assert!(errs(&rows[1]).iter().all(|&e| e > 0.0), "{csv}");
+    assert!(rows[2][2] > 0.01, "{csv}");
+    let about = std::fs::read_to_string(out.join("reference.txt")).unwrap();
+    assert!(about.contains("paired"), "{about}");
+    assert!(!about.contains("noise estimate"), "{about}");
+    // Saved as one film; an unpaired run does not take it.
+    let again = spar(&args);
+    assert!(again.status.success());
+    assert!(!String::from_utf8_lossy(&again.stderr).contains("rendering the reference"));
+    let unpaired: Vec<&str> = args.iter().copied().filter(|a| *a != "--paired").collect();
+    let refused = spar(&unpaired);
+    assert_eq!(refused.status.code(), Some(2));
+}

@@ -53,6 +53,13 @@ pub struct SpeedErrorArgs {
     /// whole.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     pub error_rows: u32,
+    /// Paired measurement: the reference and every configuration use the
+    /// scene's seed, so they share their sample positions and the error is
+    /// the change the settings alone make (their model error, without most
+    /// of the antialiasing noise). The reference is rendered in one piece
+    /// (no noise estimate).
+    #[arg(long)]
+    pub paired: bool,
     /// Wavelength of the single-wavelength modes, nm.
     #[arg(long, default_value_t = 580.0)]
     pub wavelength: f64,
@@ -446,12 +453,21 @@ fn load_scene(args: &SpeedErrorArgs) -> Result<Scene, CliError> {
 }
 
 /// The identity a saved reference must match.
-fn reference_identity(scene: &Scene, config: &Config, lambdas: &[f64], rows: u32) -> String {
-    let rows = if rows > 1 {
+fn reference_identity(
+    scene: &Scene,
+    config: &Config,
+    lambdas: &[f64],
+    rows: u32,
+    paired: bool,
+) -> String {
+    let mut rows = if rows > 1 {
         format!(" error_rows={rows}")
     } else {
         String::new()
     };
+    if paired {
+        rows.push_str(" paired");
+    }
     format!(
         "scene={} config={} lambdas={lambdas:?}{rows} version={}",
         scene_hash(scene),
@@ -481,31 +497,38 @@ fn combine(a: &Film, b: &Film) -> Film {
     f
 }
 
-fn save_reference(path: &Path, a: &Film, b: &Film, identity: &str) -> Result<(), CliError> {
+/// Names of the saved parts of a reference (two halves, or one film).
+const PARTS: [&str; 2] = ["a", "b"];
+
+fn save_reference(path: &Path, parts: &[Film], identity: &str) -> Result<(), CliError> {
+    let a = &parts[0];
     let names = Film::channel_names(&a.lambdas);
-    let channels: Vec<String> = ["a", "b"]
+    let channels: Vec<String> = PARTS[..parts.len()]
         .iter()
         .flat_map(|h| names.iter().map(move |n| format!("{h}.{n}")))
         .collect();
-    let nch = names.len();
-    let mut data = Vec::with_capacity(a.data.len() * 8);
-    for (pa, pb) in a
-        .data
-        .chunks_exact(nch / 4)
-        .zip(b.data.chunks_exact(nch / 4))
-    {
-        data.extend(pa.iter().flatten());
-        data.extend(pb.iter().flatten());
+    let per_pixel = a.lambdas.len();
+    let mut data = Vec::with_capacity(a.data.len() * 4 * parts.len());
+    for p in 0..a.data.len() / per_pixel {
+        for f in parts {
+            data.extend(f.data[p * per_pixel..(p + 1) * per_pixel].iter().flatten());
+        }
     }
+    let samples: Vec<String> = parts.iter().map(|f| f.samples.to_string()).collect();
     let img = Image::new(a.width as usize, a.height as usize, channels, data)
         .map_err(|e| CliError::Failed(e.to_string()))?
         .with_metadata(REFERENCE_KEY, identity)
-        .with_metadata("spar:samples", format!("{},{}", a.samples, b.samples));
+        .with_metadata("spar:samples", samples.join(","));
     image::write(path, &img, WriteOptions::new(PixelType::F32))
         .map_err(|e| CliError::Input(e.to_string()))
 }
 
-fn load_reference(path: &Path, identity: &str, lambdas: &[f64]) -> Result<(Film, Film), CliError> {
+fn load_reference(
+    path: &Path,
+    identity: &str,
+    lambdas: &[f64],
+    parts: usize,
+) -> Result<Vec<Film>, CliError> {
     let input = CliError::Input;
     let img = image::read(path).map_err(|e| input(e.to_string()))?;
     let meta = |k: &str| img.metadata().get(k).cloned();
@@ -519,16 +542,16 @@ fn load_reference(path: &Path, identity: &str, lambdas: &[f64]) -> Result<(Film,
     let samples: Vec<u32> = meta("spar:samples")
         .map(|s| s.split(',').filter_map(|v| v.parse().ok()).collect())
         .unwrap_or_default();
-    if samples.len() != 2 {
+    if samples.len() != parts {
         return Err(input(format!(
-            "{}: no spar:samples of two halves",
+            "{}: spar:samples does not name {parts} part(s)",
             path.display()
         )));
     }
     let names = Film::channel_names(lambdas);
     let nch = names.len();
     let mut films = Vec::new();
-    for (h, &n) in ["a", "b"].iter().zip(&samples) {
+    for (h, &n) in PARTS.iter().zip(&samples) {
         let mut sums = vec![0.0f32; img.width() * img.height() * nch];
         for (c, name) in names.iter().enumerate() {
             let plane = img
@@ -546,9 +569,7 @@ fn load_reference(path: &Path, identity: &str, lambdas: &[f64]) -> Result<(Film,
             &sums,
         ));
     }
-    let b = films.pop().expect("two");
-    let a = films.pop().expect("two");
-    Ok((a, b))
+    Ok(films)
 }
 
 fn developed(
@@ -613,22 +634,31 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
     // may be smaller; images are compared after developing).
     let colour = ref_scene.settings.wavelengths.clone();
     let lambdas = super::render::lambdas_for(&ref_scene, &modes, args.wavelength);
-    let identity = reference_identity(&scene, &ref_config, &lambdas, args.error_rows);
+    let identity = reference_identity(&scene, &ref_config, &lambdas, args.error_rows, args.paired);
     let rows = error_rows(ref_scene.camera.height, args.error_rows);
     let whole = args.error_rows == 1;
-    let (half_a, half_b) = match &args.reference {
-        Some(p) if p.exists() => load_reference(p, &identity, &lambdas)?,
+    // Unpaired: two halves of other seeds; paired: one film of the scene's.
+    let parts = if args.paired { 1 } else { 2 };
+    let halves = match &args.reference {
+        Some(p) if p.exists() => load_reference(p, &identity, &lambdas, parts)?,
         _ => {
             say(&format!(
-                "rendering the reference: {} (two halves)",
-                ref_config.label
+                "rendering the reference: {} ({})",
+                ref_config.label,
+                if args.paired {
+                    "paired: the scene's seed"
+                } else {
+                    "two halves"
+                }
             ));
             let mut halves = Vec::new();
             let mut seconds = 0.0;
-            for k in 0..2 {
+            for k in 0..parts as u64 {
                 let mut half = ref_scene.clone();
-                half.samples = ref_scene.samples.div_ceil(2);
-                half.settings.seed = half_seed(ref_scene.settings.seed, k);
+                if !args.paired {
+                    half.samples = ref_scene.samples.div_ceil(2);
+                    half.settings.seed = half_seed(ref_scene.settings.seed, k);
+                }
                 if whole {
                     let r =
                         render_film(&half, &modes, args.wavelength, threads, !args.quiet, accel)?;
@@ -642,18 +672,20 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
                 }
             }
             say(&format!("rendering the reference took {seconds:.1} s"));
-            let b = halves.pop().expect("two halves");
-            let a = halves.pop().expect("two halves");
             if let Some(p) = &args.reference {
-                save_reference(p, &a, &b, &identity)?;
+                save_reference(p, &halves, &identity)?;
             }
-            (a, b)
+            halves
         }
     };
     // The reference is the sum of its halves; half the difference of the
     // halves' images estimates its own error (exact for values linear in
     // the samples, such as colour before clamping).
-    let reference = combine(&half_a, &half_b);
+    let reference = match &halves[..] {
+        [a, b] => combine(a, b),
+        [one] => one.clone(),
+        _ => unreachable!("one or two parts"),
+    };
     let ref_images = developed(&reference, &modes, &colour, args.wavelength)?;
     let measures = measures(&modes);
     // Weights of the weighted measures: the reference's intensity at the
@@ -663,20 +695,31 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
     } else {
         Vec::new()
     };
-    let noise: Vec<f64> = errors_of(
-        &developed(&half_a, &modes, &colour, args.wavelength)?,
-        &developed(&half_b, &modes, &colour, args.wavelength)?,
-        &modes,
-        &measures,
-        &weights,
-    )
-    .iter()
-    .map(|e| e.rmse / 2.0)
-    .collect();
-    let mut about = format!(
-        "reference: {} ({} samples per pixel in two halves of other seeds)\n",
-        ref_config.label, reference.samples
-    );
+    let noise: Vec<f64> = match &halves[..] {
+        [a, b] => errors_of(
+            &developed(a, &modes, &colour, args.wavelength)?,
+            &developed(b, &modes, &colour, args.wavelength)?,
+            &modes,
+            &measures,
+            &weights,
+        )
+        .iter()
+        .map(|e| e.rmse / 2.0)
+        .collect(),
+        _ => vec![0.0; measures.len()],
+    };
+    let mut about = if args.paired {
+        format!(
+            "reference: {} ({} samples per pixel, paired: every configuration uses its seed, \
+             errors are the settings' own)\n",
+            ref_config.label, reference.samples
+        )
+    } else {
+        format!(
+            "reference: {} ({} samples per pixel in two halves of other seeds)\n",
+            ref_config.label, reference.samples
+        )
+    };
     if !whole {
         let _ = writeln!(
             about,
@@ -686,13 +729,20 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
             ref_scene.camera.height
         );
     }
-    for (m, n) in measures.iter().zip(&noise) {
-        let _ = writeln!(about, "reference noise estimate, {} RMSE: {n:.5}", m.name());
+    if !args.paired {
+        for (m, n) in measures.iter().zip(&noise) {
+            let _ = writeln!(about, "reference noise estimate, {} RMSE: {n:.5}", m.name());
+        }
     }
     say(about.trim_end());
 
     let mut results = Vec::new();
     for (config, s) in configs.iter().zip(&scenes) {
+        let mut s = s.clone();
+        if args.paired {
+            s.settings.seed = ref_scene.settings.seed;
+        }
+        let s = &s;
         let r: Rendered = render_film(s, &modes, args.wavelength, threads, false, accel)?;
         let film = if whole {
             r.film
