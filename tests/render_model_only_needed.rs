@@ -4,7 +4,7 @@
 
 mod common;
 use common::*;
-use spar::render::approx::{Spectral, NO_DISPERSION_NM};
+use spar::render::approx::{DispersionMode, Spectral, NO_DISPERSION_NM};
 use spar::render::integrator::Branching;
 
 /// A gem of `medium` over a textured, polarized light, seen at an angle.
@@ -71,7 +71,7 @@ fn dispersion_off_traces_every_wavelength_along_the_d_line_paths() {
     let (mut scene, _d) = scene(&gem("calcite", axis, 8, 1), &[]);
     let lambdas = [450.0, NO_DISPERSION_NM, 650.0];
     let (dispersive, on) = render_at(&scene, &lambdas);
-    scene.settings.approx.dispersion = false;
+    scene.settings.approx.dispersion = DispersionMode::Off;
     let (flat, off) = render_at(&scene, &lambdas);
     let (d_line, d) = render_at(&scene, &[NO_DISPERSION_NM]);
     // One tree per camera ray instead of one per wavelength.
@@ -87,6 +87,46 @@ fn dispersion_off_traces_every_wavelength_along_the_d_line_paths() {
         }
     }
     assert!(differs, "calcite disperses: 450 nm must differ somewhere");
+}
+
+#[test]
+fn dispersion_bands_trace_one_tree_per_band_along_its_middle() {
+    let axis = "optic_axis = [0.3, 0.2, 1.0]";
+    let (mut scene, _d) = scene(&gem("calcite", axis, 8, 1), &[]);
+    // Two bands of 400-500 nm: 400-450 follows 425 nm, 450-500 follows 475.
+    let lambdas = [400.0, 425.0, 450.0, 475.0, 500.0];
+    let (exact, on) = render_at(&scene, &lambdas);
+    let (middles, m) = render_at(&scene, &[425.0, 475.0]);
+    scene.settings.approx.dispersion = DispersionMode::Bands(2);
+    let (banded, bands) = render_at(&scene, &lambdas);
+    // Exactly the two middles' trees, each serving its band.
+    assert_eq!(bands.rays, m.rays);
+    assert!(on.rays > 2 * bands.rays, "{} vs {}", on.rays, bands.rays);
+    let mut differs = false;
+    for y in 0..8 {
+        for x in 0..8 {
+            // The middles themselves are not approximated.
+            assert_eq!(banded.stokes(x, y, 1), exact.stokes(x, y, 1));
+            assert_eq!(banded.stokes(x, y, 3), middles.stokes(x, y, 1));
+            differs |= banded.stokes(x, y, 0) != exact.stokes(x, y, 0);
+        }
+    }
+    assert!(differs, "calcite disperses: 400 nm must differ somewhere");
+}
+
+#[test]
+fn scene_files_set_dispersion_as_a_flag_or_bands() {
+    let base = gem("calcite", "optic_axis = [0.0, 0.0, 1.0]", 8, 1);
+    for (value, mode) in [
+        ("false", DispersionMode::Off),
+        ("true", DispersionMode::On),
+        ("\"bands:4\"", DispersionMode::Bands(4)),
+        ("\"off\"", DispersionMode::Off),
+    ] {
+        let toml = base.replace("[render]\n", &format!("[render]\ndispersion = {value}\n"));
+        let (s, _d) = scene(&toml, &[]);
+        assert_eq!(s.settings.approx.dispersion, mode, "{value}");
+    }
 }
 
 #[test]

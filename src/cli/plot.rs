@@ -64,6 +64,8 @@ pub fn pareto_plot(path: &Path, results: &[Measured], modes: &[Measure]) -> Resu
         let err = |e: DrawingAreaErrorKind<_>| format!("plot: {e}");
         root.fill(&WHITE).map_err(err)?;
         let (t0, t1) = decade_range(results.iter().map(|r| r.seconds));
+        // Room on the right for the labels of the slowest points.
+        let t1 = t1 * 4.0;
         // Exact results (error 0) are drawn at the bottom edge.
         let (e0, e1) = decade_range(results.iter().flat_map(|r| r.errors.iter().map(|e| e.rmse)));
         let mut chart = ChartBuilder::on(&root)

@@ -206,10 +206,11 @@ pub struct SceneOverrides {
     /// rotating across samples). Overrides the scene.
     #[arg(long, value_parser = clap::value_parser!(Spectral))]
     pub spectral: Option<Spectral>,
-    /// Dispersion on or off (off: every wavelength follows the paths of
-    /// 587.56 nm). Overrides the scene.
-    #[arg(long, value_parser = approx::parse_on_off)]
-    pub dispersion: Option<bool>,
+    /// Dispersion on, off (every wavelength follows the paths of
+    /// 587.56 nm) or bands:K (K bands of wavelength, each following the
+    /// paths of its middle). Overrides the scene.
+    #[arg(long, value_parser = clap::value_parser!(approx::DispersionMode))]
+    pub dispersion: Option<approx::DispersionMode>,
 }
 
 impl SceneOverrides {
@@ -329,7 +330,7 @@ impl SceneOverrides {
             a.extend(["--spectral".into(), s.to_string()]);
         }
         if let Some(d) = self.dispersion {
-            a.extend(["--dispersion".into(), if d { "on" } else { "off" }.into()]);
+            a.extend(["--dispersion".into(), d.to_string()]);
         }
         a
     }

@@ -38,13 +38,77 @@ impl Spectral {
     }
 }
 
+/// Which paths the wavelengths follow through dispersive media.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum DispersionMode {
+    /// Every wavelength follows its own paths (exact): one tree per
+    /// wavelength in a dispersive scene.
+    #[default]
+    On,
+    /// Every wavelength follows the paths of [`NO_DISPERSION_NM`]: one tree
+    /// for all.
+    Off,
+    /// The colour range splits into `K` equal bands of wavelength; each
+    /// wavelength follows the paths of its band's middle: `K` trees, each
+    /// evaluated (emission, Fresnel, phases) at every wavelength of its
+    /// band. Between `off` (no fire) and `on` (every wavelength its own
+    /// tree).
+    Bands(u32),
+}
+
+impl DispersionMode {
+    /// The wavelength whose paths `nm` follows, for the colour range
+    /// `lo..=hi` (nm) of the render.
+    pub fn geometry_nm(self, nm: f64, lo: f64, hi: f64) -> f64 {
+        match self {
+            DispersionMode::On => nm,
+            DispersionMode::Off => NO_DISPERSION_NM,
+            DispersionMode::Bands(k) => {
+                if hi <= lo {
+                    return nm;
+                }
+                let k = k.max(1) as f64;
+                let band = ((nm - lo) / (hi - lo) * k).floor().clamp(0.0, k - 1.0);
+                lo + (band + 0.5) * (hi - lo) / k
+            }
+        }
+    }
+}
+
+impl FromStr for DispersionMode {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.trim() {
+            "on" | "true" => Ok(DispersionMode::On),
+            "off" | "false" => Ok(DispersionMode::Off),
+            t => match t.strip_prefix("bands:").map(|k| k.trim().parse::<u32>()) {
+                Some(Ok(k)) if k >= 1 => Ok(DispersionMode::Bands(k)),
+                _ => Err(format!(
+                    "`{s}`: dispersion is on, off or bands:K (K ≥ 1 bands of wavelength, \
+                     each following the paths of its middle)"
+                )),
+            },
+        }
+    }
+}
+
+impl fmt::Display for DispersionMode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            DispersionMode::On => f.write_str("on"),
+            DispersionMode::Off => f.write_str("off"),
+            DispersionMode::Bands(k) => write!(f, "bands:{k}"),
+        }
+    }
+}
+
 /// Every knob that is not a count: the defaults model everything.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Approximations {
     pub strategy: Strategy,
     pub spectral: Spectral,
-    /// Media at every wavelength (true), or all at [`NO_DISPERSION_NM`].
-    pub dispersion: bool,
+    /// Which paths the wavelengths follow.
+    pub dispersion: DispersionMode,
 }
 
 impl Default for Approximations {
@@ -52,7 +116,7 @@ impl Default for Approximations {
         Approximations {
             strategy: Strategy::default(),
             spectral: Spectral::All,
-            dispersion: true,
+            dispersion: DispersionMode::On,
         }
     }
 }
@@ -75,7 +139,7 @@ impl fmt::Display for Approximations {
             BranchingArg(self.strategy.branching),
             PolarizationArg(self.strategy.polarization),
             self.spectral,
-            if self.dispersion { "on" } else { "off" }
+            self.dispersion
         )
     }
 }
@@ -198,7 +262,7 @@ impl Quality {
                 8,
                 1e-3,
                 Approximations {
-                    dispersion: false,
+                    dispersion: DispersionMode::Off,
                     ..Approximations::default()
                 },
             ),
@@ -220,18 +284,42 @@ impl Quality {
     }
 }
 
-/// Parses `on`/`off` (also `true`/`false`) for `--dispersion`.
-pub fn parse_on_off(s: &str) -> Result<bool, String> {
-    match s.trim() {
-        "on" | "true" => Ok(true),
-        "off" | "false" => Ok(false),
-        _ => Err(format!("`{s}`: give on or off")),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn dispersion_bands_follow_the_middle_of_their_band() {
+        let b = DispersionMode::Bands(3);
+        for (nm, mid) in [
+            (400.0, 450.0),
+            (499.0, 450.0),
+            (500.0, 550.0),
+            (580.0, 550.0),
+        ] {
+            assert_eq!(b.geometry_nm(nm, 400.0, 700.0), mid, "{nm}");
+        }
+        // The top of the range belongs to the last band.
+        assert_eq!(b.geometry_nm(700.0, 400.0, 700.0), 650.0);
+        assert_eq!(
+            DispersionMode::Bands(1).geometry_nm(420.0, 400.0, 700.0),
+            550.0
+        );
+        assert_eq!(DispersionMode::On.geometry_nm(420.0, 400.0, 700.0), 420.0);
+        assert_eq!(
+            DispersionMode::Off.geometry_nm(420.0, 400.0, 700.0),
+            NO_DISPERSION_NM
+        );
+        // No range (a single wavelength): its own paths.
+        assert_eq!(b.geometry_nm(580.0, 580.0, 580.0), 580.0);
+        for s in ["on", "off", "bands:1", "bands:7"] {
+            assert_eq!(s.parse::<DispersionMode>().unwrap().to_string(), s);
+        }
+        assert_eq!("true".parse::<DispersionMode>(), Ok(DispersionMode::On));
+        for bad in ["bands:0", "bands:x", "bands", "maybe"] {
+            assert!(bad.parse::<DispersionMode>().unwrap_err().contains(bad));
+        }
+    }
 
     #[test]
     fn flag_values_read_back_what_they_print() {

@@ -21,7 +21,7 @@ use crate::farm::blocks::{Accumulator, Node, SampleRange};
 use crate::farm::region::Rect;
 use crate::optics::Coherence;
 use crate::scene::Scene;
-use approx::{Approximations, NO_DISPERSION_NM};
+use approx::Approximations;
 use film::Film;
 use integrator::{Stats, Tracer, TreeSettings, WavelengthMedia};
 use rayon::prelude::*;
@@ -74,12 +74,12 @@ impl RenderOptions {
 /// its wavelengths; a dispersive scene has one group per wavelength.
 fn geometry_groups(scene: &Scene, opts: &RenderOptions) -> Vec<(Vec<usize>, Vec<WavelengthMedia>)> {
     let mut groups: Vec<(Vec<usize>, Vec<WavelengthMedia>)> = Vec::new();
+    // The colour range, which dispersion bands divide.
+    let colour = &opts.lambdas[..opts.colour_lambdas.min(opts.lambdas.len())];
+    let lo = colour.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = colour.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     for (i, &l) in opts.lambdas.iter().enumerate() {
-        let geometry_nm = if opts.approx.dispersion {
-            l
-        } else {
-            NO_DISPERSION_NM
-        };
+        let geometry_nm = opts.approx.dispersion.geometry_nm(l, lo, hi);
         let m = WavelengthMedia::with_geometry_at(scene, l, geometry_nm);
         match groups.iter_mut().find(|(_, b)| b[0].objects == m.objects) {
             Some((idx, batch)) => {

@@ -103,7 +103,16 @@ pub struct RenderDef {
     pub polarization: Option<Spanned<String>>,
     /// `all` or `hero:K`.
     pub spectral: Option<Spanned<String>>,
-    pub dispersion: Option<bool>,
+    /// `true`/`false`, or `"on"`, `"off"`, `"bands:K"`.
+    pub dispersion: Option<Spanned<DispersionSetting>>,
+}
+
+/// `dispersion = true` or `dispersion = "bands:3"`.
+#[derive(Deserialize, Debug, Clone)]
+#[serde(untagged)]
+pub enum DispersionSetting {
+    Flag(bool),
+    Text(String),
 }
 
 /// A refractive index model: a number (constant) or one named model.

@@ -221,8 +221,14 @@ impl Scene {
                 .parse()
                 .or_else(|e: String| loc.err(b.span(), "render.spectral", e))?;
         }
-        if let Some(d) = r.dispersion {
-            approx.dispersion = d;
+        if let Some(d) = &r.dispersion {
+            approx.dispersion = match d.get_ref() {
+                file::DispersionSetting::Flag(true) => crate::render::approx::DispersionMode::On,
+                file::DispersionSetting::Flag(false) => crate::render::approx::DispersionMode::Off,
+                file::DispersionSetting::Text(t) => t
+                    .parse()
+                    .or_else(|e: String| loc.err(d.span(), "render.dispersion", e))?,
+            };
         }
         let settings = RenderSettings {
             wavelengths,
