@@ -49,10 +49,10 @@ pub enum DispersionMode {
     /// for all.
     Off,
     /// The colour range splits into `K` equal bands of wavelength; each
-    /// wavelength follows the paths of its band's middle: `K` trees, each
-    /// evaluated (emission, Fresnel, phases) at every wavelength of its
-    /// band. Between `off` (no fire) and `on` (every wavelength its own
-    /// tree).
+    /// colour wavelength follows the paths of its band's middle: `K` trees,
+    /// each evaluated (emission, Fresnel, phases) at every wavelength of
+    /// its band. Between `off` (no fire) and `on` (every wavelength its own
+    /// tree). A single-wavelength mode's wavelength keeps its own paths.
     Bands(u32),
 }
 

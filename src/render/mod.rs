@@ -21,7 +21,7 @@ use crate::farm::blocks::{Accumulator, Node, SampleRange};
 use crate::farm::region::Rect;
 use crate::optics::Coherence;
 use crate::scene::Scene;
-use approx::Approximations;
+use approx::{Approximations, DispersionMode};
 use film::Film;
 use integrator::{Stats, Tracer, TreeSettings, WavelengthMedia};
 use rayon::prelude::*;
@@ -79,7 +79,13 @@ fn geometry_groups(scene: &Scene, opts: &RenderOptions) -> Vec<(Vec<usize>, Vec<
     let lo = colour.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = colour.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     for (i, &l) in opts.lambdas.iter().enumerate() {
-        let geometry_nm = opts.approx.dispersion.geometry_nm(l, lo, hi);
+        // Bands divide the colour wavelengths; a single-wavelength mode's
+        // wavelength keeps its own paths (its image would otherwise be
+        // the image of its band's middle). `off` moves every wavelength.
+        let geometry_nm = match opts.approx.dispersion {
+            DispersionMode::Bands(_) if i >= colour.len() => l,
+            d => d.geometry_nm(l, lo, hi),
+        };
         let m = WavelengthMedia::with_geometry_at(scene, l, geometry_nm);
         match groups.iter_mut().find(|(_, b)| b[0].objects == m.objects) {
             Some((idx, batch)) => {
