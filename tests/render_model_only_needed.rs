@@ -146,6 +146,36 @@ fn dispersion_bands_leave_a_single_wavelength_mode_on_its_own_paths() {
     }
 }
 
+/// As `spar render --mode color,dop` asks: the seed's 21 wavelengths, one
+/// of them also the DoP image's 580 nm.
+#[test]
+fn dispersion_bands_with_colour_and_dop_trace_a_tree_per_band_and_one_for_dop() {
+    use spar::render::output::OutputMode;
+    let axis = "optic_axis = [0.3, 0.2, 1.0]";
+    let (mut scene, _d) = scene(&gem("calcite", axis, 8, 1), &[]);
+    let accel = spar::cli::render::build_accel_kind(&scene, 2, Default::default(), None).unwrap();
+    let modes = [OutputMode::Color, OutputMode::Dop];
+    let mut run = |d: DispersionMode| {
+        scene.settings.approx.dispersion = d;
+        let opts = spar::cli::render::options_for(&scene, &modes, 580.0, false);
+        let (film, stats) = spar::render::render(&scene, accel.as_ref(), &opts);
+        let dop = opts.lambdas.iter().position(|&l| l == 580.0).unwrap();
+        (film, stats.rays, dop)
+    };
+    let (exact, on, dop_on) = run(DispersionMode::On);
+    let (_, off, _) = run(DispersionMode::Off);
+    let (banded, bands, dop_b) = run(DispersionMode::Bands(3));
+    // Three band trees and the DoP wavelength's own: about four times
+    // one tree, far from the 21 of full dispersion.
+    assert!(bands > 2 * off && bands < 6 * off, "{bands} vs {off}");
+    assert!(on > 12 * off, "{on} vs {off}");
+    for y in 0..8 {
+        for x in 0..8 {
+            assert_eq!(banded.stokes(x, y, dop_b), exact.stokes(x, y, dop_on));
+        }
+    }
+}
+
 #[test]
 fn scene_files_set_dispersion_as_a_flag_or_bands() {
     let base = gem("calcite", "optic_axis = [0.0, 0.0, 1.0]", 8, 1);

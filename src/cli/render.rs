@@ -474,7 +474,9 @@ pub fn lambdas_for(scene: &Scene, modes: &[OutputMode], mono_nm: f64) -> Vec<f64
     lambdas
 }
 
-pub(crate) fn options_for(
+/// The render options `spar render` uses for a scene and its modes: the
+/// colour wavelengths first, a single-wavelength mode's right after them.
+pub fn options_for(
     scene: &Scene,
     modes: &[OutputMode],
     mono_nm: f64,

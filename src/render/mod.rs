@@ -74,16 +74,25 @@ impl RenderOptions {
 /// its wavelengths; a dispersive scene has one group per wavelength.
 fn geometry_groups(scene: &Scene, opts: &RenderOptions) -> Vec<(Vec<usize>, Vec<WavelengthMedia>)> {
     let mut groups: Vec<(Vec<usize>, Vec<WavelengthMedia>)> = Vec::new();
+    // A single-wavelength mode's wavelength, if any, is the entry right
+    // after the leading colour ones (cli::render::lambdas_for); it may
+    // also be a colour wavelength, as may the entries after it.
+    let mono = opts.colour_lambdas;
     // The colour range, which dispersion bands divide.
-    let colour = &opts.lambdas[..opts.colour_lambdas.min(opts.lambdas.len())];
-    let lo = colour.iter().copied().fold(f64::INFINITY, f64::min);
-    let hi = colour.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let range = opts
+        .lambdas
+        .iter()
+        .enumerate()
+        .filter(|&(i, _)| i != mono)
+        .map(|(_, &l)| l);
+    let lo = range.clone().fold(f64::INFINITY, f64::min);
+    let hi = range.fold(f64::NEG_INFINITY, f64::max);
     for (i, &l) in opts.lambdas.iter().enumerate() {
         // Bands divide the colour wavelengths; a single-wavelength mode's
         // wavelength keeps its own paths (its image would otherwise be
         // the image of its band's middle). `off` moves every wavelength.
         let geometry_nm = match opts.approx.dispersion {
-            DispersionMode::Bands(_) if i >= colour.len() => l,
+            DispersionMode::Bands(_) if i == mono => l,
             d => d.geometry_nm(l, lo, hi),
         };
         let m = WavelengthMedia::with_geometry_at(scene, l, geometry_nm);
