@@ -194,7 +194,12 @@ pub const DEFAULT_SWEEP: &[&str] = &[
     "dispersion=off depth=8 prune=1e-3 spp=64",
     "dispersion=off branching=hybrid:3 spp=64",
     "quality=draft",
+    "quality=draft spp=4",
     "quality=draft spp=16",
+    "depth=30",
+    "dispersion=bands:3",
+    "dispersion=bands:8",
+    "depth=30 spectral=hero:7 spp=16",
 ];
 
 /// Error of one mode against the reference (display values).

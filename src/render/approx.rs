@@ -234,11 +234,11 @@ impl FromStr for Spectral {
 /// approximations; flags given with a preset override its values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Quality {
-    /// Previews: dispersion off (one tree for all wavelengths), depth 8,
+    /// Previews: dispersion off (one tree for all wavelengths), depth 30,
     /// pruning at 1e-3. Full branching and polarization: sampled branching
     /// and scalar transport cost far more in DoP error than they save.
     Draft,
-    /// The defaults: the exact tree at depth 13 with pruning at 1e-4.
+    /// The defaults: the exact tree at depth 30 with pruning at 1e-4.
     Default,
     /// For references: depth 30, pruning at 1e-6, nothing approximated.
     Reference,
@@ -259,7 +259,7 @@ impl Quality {
     pub fn settings(self) -> (u32, f64, Approximations) {
         match self {
             Quality::Draft => (
-                8,
+                30,
                 1e-3,
                 Approximations {
                     dispersion: DispersionMode::Off,
