@@ -27,6 +27,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod accel;
+pub mod atomic_file;
 pub mod cli;
 pub mod farm;
 pub mod geometry;

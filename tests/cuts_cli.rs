@@ -13,6 +13,9 @@ pub use spar::cli::CliError;
 mod geometry {
     pub use spar::geometry::*;
 }
+mod atomic_file {
+    pub use spar::atomic_file::*;
+}
 const VERSION: &str = spar::VERSION;
 #[path = "../src/cli/cut.rs"]
 #[allow(dead_code)]

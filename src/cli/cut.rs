@@ -176,7 +176,7 @@ pub fn run_to(args: &CutArgs, out: &mut dyn Write) -> Result<(), CliError> {
         eprintln!("spar: warning: {note}");
     }
     let text = write_obj(&mesh, &comments);
-    std::fs::write(&args.output, text)
+    crate::atomic_file::write(&args.output, text.as_bytes())
         .map_err(|e| CliError::Failed(format!("cannot write {}: {e}", args.output.display())))?;
     let _ = writeln!(out, "{}: {}", args.output.display(), report.summary());
     Ok(())

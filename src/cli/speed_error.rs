@@ -775,10 +775,10 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
     let plot_path = args.output.join("pareto.png");
     super::plot::pareto_plot(&plot_path, &results, &measures).map_err(CliError::Failed)?;
     let about_path = args.output.join("reference.txt");
-    std::fs::write(&about_path, &about)
+    crate::atomic_file::write(&about_path, about.as_bytes())
         .map_err(|e| CliError::Failed(format!("{}: {e}", about_path.display())))?;
     let csv_path = args.output.join("results.csv");
-    std::fs::write(&csv_path, csv(&results, &measures))
+    crate::atomic_file::write(&csv_path, csv(&results, &measures).as_bytes())
         .map_err(|e| CliError::Failed(format!("{}: {e}", csv_path.display())))?;
     if !args.quiet {
         print!("{}", table(&results, &measures));

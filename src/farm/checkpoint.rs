@@ -12,7 +12,6 @@
 
 use crate::render::TileData;
 use std::fs;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 const MAGIC: &[u8; 8] = b"SPARCKPT";
@@ -42,23 +41,7 @@ pub fn save(path: &Path, key: &str, tiles: &[&TileData]) -> std::io::Result<()> 
     }
     let sum = fnv(&buf);
     buf.extend_from_slice(&sum.to_le_bytes());
-    let name = path
-        .file_name()
-        .ok_or_else(|| std::io::Error::other("the checkpoint path names no file"))?;
-    let mut tmp_name = std::ffi::OsString::from(".");
-    tmp_name.push(name);
-    tmp_name.push(format!(".tmp-{}", std::process::id()));
-    let tmp: PathBuf = path.with_file_name(tmp_name);
-    let result = (|| {
-        let mut f = fs::File::create(&tmp)?;
-        f.write_all(&buf)?;
-        f.sync_all()?;
-        fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = fs::remove_file(&tmp);
-    }
-    result
+    crate::atomic_file::write(path, &buf)
 }
 
 /// Why a checkpoint cannot be used.
