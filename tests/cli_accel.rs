@@ -176,6 +176,17 @@ fn parts_merge_only_within_one_backend() {
 /// Other formats are refused before anything is rendered.
 #[cfg(not(feature = "native"))]
 #[test]
+fn contact_sheets_need_native_and_say_so_before_rendering() {
+    let dir = scene_dir();
+    let (code, o, e) = spar(&["contact-sheet", "s.toml", "-o", "sheet.png"], dir.path());
+    assert_eq!(code, 2, "{o}{e}");
+    assert!(e.contains("OpenImageIO") && e.contains("native"), "{e}");
+    assert!(!e.contains("rays"), "refused after rendering: {e}");
+    assert!(!dir.path().join("sheet.png").exists());
+}
+
+#[cfg(not(feature = "native"))]
+#[test]
 fn formats_other_than_png_and_exr_need_native() {
     let dir = scene_dir();
     for out in ["x.tif", "x.jpg"] {

@@ -60,6 +60,14 @@ pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
         )));
     }
     let accel = args.accel.kind(None)?;
+    // The panels' labels are drawn by OpenImageIO: refuse before rendering.
+    if !cfg!(feature = "native") {
+        return Err(CliError::Input(
+            "spar contact-sheet labels its panels with OpenImageIO: this build has no `native` \
+             feature (build spar with its default features)"
+                .into(),
+        ));
+    }
     // Load and check every scene before rendering any.
     let mut scenes = Vec::new();
     for path in &args.scenes {
