@@ -281,3 +281,73 @@ fn paired_errors_are_the_settings_own() {
     let refused = spar(&unpaired);
     assert_eq!(refused.status.code(), Some(2));
 }
+
+#[test]
+fn from_csv_merges_earlier_runs_without_rendering() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, merged) = (dir.path().join("a"), dir.path().join("merged"));
+    let s = scene();
+    let mut args = vec!["speed-error", &s, "-o", a.to_str().unwrap()];
+    args.extend(SMALL);
+    args.extend([
+        "--reference-config",
+        "spp=2",
+        "--config",
+        "depth=2",
+        "--config",
+        "",
+    ]);
+    assert!(spar(&args).status.success());
+    let csv_a = a.join("results.csv");
+    let first = std::fs::read_to_string(&csv_a).unwrap();
+    // The same file twice: every row twice, equal rows never dominating
+    // each other, so the fronts keep both copies.
+    let run = spar(&[
+        "speed-error",
+        "--from-csv",
+        csv_a.to_str().unwrap(),
+        "--from-csv",
+        csv_a.to_str().unwrap(),
+        "-o",
+        merged.to_str().unwrap(),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let both = std::fs::read_to_string(merged.join("results.csv")).unwrap();
+    let lines: Vec<&str> = both.lines().collect();
+    assert_eq!(lines[0], first.lines().next().unwrap());
+    assert_eq!(lines.len(), 1 + 2 * (first.lines().count() - 1));
+    assert_eq!(lines[1], lines[3], "{both}");
+    assert_eq!(lines[1..3], first.lines().skip(1).collect::<Vec<_>>()[..]);
+    assert!(merged.join("pareto.png").exists());
+    assert!(!String::from_utf8_lossy(&run.stderr).contains("reference"));
+
+    // A file that is not a results.csv, or a broken row: exit 2 naming
+    // the file and line, nothing written.
+    let bad = dir.path().join("bad.csv");
+    let out = dir.path().join("out");
+    let mut rows: Vec<String> = first.lines().take(2).map(String::from).collect();
+    let mut fields: Vec<&str> = rows[1].split(',').collect();
+    fields[1] = "soon";
+    rows[1] = fields.join(",");
+    std::fs::write(&bad, rows.join("\n")).unwrap();
+    for (file, needle) in [
+        (bad.clone(), "bad.csv:2:"),
+        (dir.path().join("none.csv"), "none.csv"),
+    ] {
+        let r = spar(&[
+            "speed-error",
+            "--from-csv",
+            file.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(r.status.code(), Some(2));
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert!(err.contains(needle), "{err}");
+        assert!(!out.join("results.csv").exists());
+    }
+}

@@ -70,6 +70,11 @@ pub struct SpeedErrorArgs {
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Render nothing: merge the results.csv of earlier runs (on one
+    /// reference, e.g. a sweep split over machines) into one results.csv,
+    /// plot and table, fronts taken over all of them.
+    #[arg(long = "from-csv", conflicts_with_all = ["configs", "reference", "paired"])]
+    pub from_csv: Vec<PathBuf>,
     /// No progress or table.
     #[arg(long, short)]
     pub quiet: bool,
@@ -590,6 +595,9 @@ fn developed(
 }
 
 pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
+    if !args.from_csv.is_empty() {
+        return replot(args);
+    }
     let input = CliError::Input;
     let mut modes = args.mode.clone();
     modes.dedup();
@@ -777,6 +785,113 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
     let about_path = args.output.join("reference.txt");
     crate::atomic_file::write(&about_path, about.as_bytes())
         .map_err(|e| CliError::Failed(format!("{}: {e}", about_path.display())))?;
+    let csv_path = args.output.join("results.csv");
+    crate::atomic_file::write(&csv_path, csv(&results, &measures).as_bytes())
+        .map_err(|e| CliError::Failed(format!("{}: {e}", csv_path.display())))?;
+    if !args.quiet {
+        print!("{}", table(&results, &measures));
+        println!("wrote {} and {}", csv_path.display(), plot_path.display());
+    }
+    Ok(())
+}
+
+/// Reads a results.csv written by [`csv`] (also one without the net
+/// columns, which then equal the RMSE): its measures and rows.
+pub fn read_csv(path: &Path) -> Result<(Vec<Measure>, Vec<Measured>), String> {
+    let name = path.display();
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{name}: {e}"))?;
+    let mut lines = text.lines().enumerate();
+    let (_, header) = lines.next().ok_or(format!("{name}: empty"))?;
+    let cols: Vec<&str> = header.split(',').collect();
+    if cols.get(..3) != Some(&["config", "seconds", "rays"][..]) {
+        return Err(format!("{name}:1: not a spar speed-error results.csv"));
+    }
+    let col = |c: &str| cols.iter().position(|&x| x == c);
+    let mut measures = Vec::new();
+    let mut idx = Vec::new();
+    for c in &cols {
+        let Some(m) = c.strip_suffix("_rmse") else {
+            continue;
+        };
+        let (mode, weighted) = match m.strip_suffix("-weighted") {
+            Some(mode) => (mode, true),
+            None => (m, false),
+        };
+        let mode = <OutputMode as clap::ValueEnum>::from_str(mode, false)
+            .map_err(|_| format!("{name}:1: unknown mode in column `{c}`"))?;
+        measures.push(Measure { mode, weighted });
+        let max = col(&format!("{m}_max")).ok_or(format!("{name}:1: no column {m}_max"))?;
+        idx.push((col(c).expect("found"), max, col(&format!("{m}_rmse_net"))));
+    }
+    let mut rows = Vec::new();
+    for (n, line) in lines.filter(|(_, l)| !l.trim().is_empty()) {
+        let bad = |what: &str| format!("{name}:{}: {what}", n + 1);
+        let f: Vec<&str> = line.split(',').collect();
+        if f.len() != cols.len() {
+            return Err(bad(&format!(
+                "{} fields, the header has {}",
+                f.len(),
+                cols.len()
+            )));
+        }
+        let num = |i: usize| -> Result<f64, String> {
+            f[i].parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite() && *v >= 0.0)
+                .ok_or_else(|| bad(&format!("`{}` in column {} is not a number", f[i], cols[i])))
+        };
+        let label = f[0].trim_matches('"').to_string();
+        let mut config = Config::parse("").expect("the empty configuration");
+        config.label = label;
+        let errors = idx
+            .iter()
+            .map(|&(r, m, net)| {
+                let rmse = num(r)?;
+                Ok(ModeError {
+                    rmse,
+                    max: num(m)?,
+                    net: net.map(num).transpose()?.unwrap_or(rmse),
+                })
+            })
+            .collect::<Result<Vec<_>, String>>()?;
+        rows.push(Measured {
+            config,
+            seconds: num(1)?,
+            rays: f[2].parse().map_err(|_| bad("rays is not a count"))?,
+            errors,
+        });
+    }
+    Ok((measures, rows))
+}
+
+/// `--from-csv`: the merged results of earlier runs, written and plotted.
+fn replot(args: &SpeedErrorArgs) -> Result<(), CliError> {
+    let mut measures: Option<Vec<Measure>> = None;
+    let mut results = Vec::new();
+    for path in &args.from_csv {
+        let (m, rows) = read_csv(path).map_err(CliError::Input)?;
+        match &measures {
+            Some(first) if *first != m => {
+                return Err(CliError::Input(format!(
+                    "{}: other measures than {} ({})",
+                    path.display(),
+                    args.from_csv[0].display(),
+                    m.iter().map(Measure::name).collect::<Vec<_>>().join(", ")
+                )))
+            }
+            _ => measures = Some(m),
+        }
+        results.extend(rows);
+    }
+    let measures = measures.expect("at least one file");
+    std::fs::create_dir_all(&args.output).map_err(|e| {
+        CliError::Input(format!(
+            "{}: cannot create the directory: {e}",
+            args.output.display()
+        ))
+    })?;
+    let plot_path = args.output.join("pareto.png");
+    super::plot::pareto_plot(&plot_path, &results, &measures).map_err(CliError::Failed)?;
     let csv_path = args.output.join("results.csv");
     crate::atomic_file::write(&csv_path, csv(&results, &measures).as_bytes())
         .map_err(|e| CliError::Failed(format!("{}: {e}", csv_path.display())))?;
