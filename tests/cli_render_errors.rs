@@ -124,6 +124,11 @@ fn cases() -> Vec<(&'static str, &'static str, Vec<&'static str>)> {
             "resolution = [8, 8]\n\n[render]\ndispersion = \"bands:0\"",
             vec!["scene.toml:9:", "render.dispersion", "bands:K"],
         ),
+        (
+            "resolution = [8, 8]",
+            "resolution = [8, 8]\n\n[render]\ndispersion = 3",
+            vec!["scene.toml:9:", "render.dispersion", "bands:K"],
+        ),
     ]
 }
 

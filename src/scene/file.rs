@@ -103,16 +103,9 @@ pub struct RenderDef {
     pub polarization: Option<Spanned<String>>,
     /// `all` or `hero:K`.
     pub spectral: Option<Spanned<String>>,
-    /// `true`/`false`, or `"on"`, `"off"`, `"bands:K"`.
-    pub dispersion: Option<Spanned<DispersionSetting>>,
-}
-
-/// `dispersion = true` or `dispersion = "bands:3"`.
-#[derive(Deserialize, Debug, Clone)]
-#[serde(untagged)]
-pub enum DispersionSetting {
-    Flag(bool),
-    Text(String),
+    /// `true`/`false`, or `"on"`, `"off"`, `"bands:K"` (checked in
+    /// `Scene::parse`, which names what it takes).
+    pub dispersion: Option<Spanned<toml::Value>>,
 }
 
 /// A refractive index model: a number (constant) or one named model.

@@ -226,12 +226,21 @@ impl Scene {
                 .or_else(|e: String| loc.err(b.span(), "render.spectral", e))?;
         }
         if let Some(d) = &r.dispersion {
+            use crate::render::approx::DispersionMode;
             approx.dispersion = match d.get_ref() {
-                file::DispersionSetting::Flag(true) => crate::render::approx::DispersionMode::On,
-                file::DispersionSetting::Flag(false) => crate::render::approx::DispersionMode::Off,
-                file::DispersionSetting::Text(t) => t
+                toml::Value::Boolean(true) => DispersionMode::On,
+                toml::Value::Boolean(false) => DispersionMode::Off,
+                toml::Value::String(t) => t
                     .parse()
                     .or_else(|e: String| loc.err(d.span(), "render.dispersion", e))?,
+                other => loc.err(
+                    d.span(),
+                    "render.dispersion",
+                    format!(
+                        "`{other}`: give true, false, \"on\", \"off\" or \"bands:K\" \
+                         (K ≥ 1 bands of wavelength)"
+                    ),
+                )?,
             };
         }
         let settings = RenderSettings {
