@@ -18,6 +18,15 @@ fn scene() -> String {
         .into_owned()
 }
 
+/// Asserts that a run succeeded, showing its errors if not.
+fn succeeded(run: &std::process::Output) {
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+}
+
 const SMALL: [&str; 4] = ["--resolution", "12x12", "--wavelengths", "7"];
 
 #[test]
@@ -40,11 +49,7 @@ fn a_sweep_writes_csv_table_and_plot_and_reuses_its_reference() {
         "spectral=hero:1",
     ]);
     let run = spar(&args);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    succeeded(&run);
     let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(
@@ -122,7 +127,7 @@ fn a_sweep_writes_csv_table_and_plot_and_reuses_its_reference() {
     assert!(reference.exists());
     assert!(String::from_utf8_lossy(&run.stderr).contains("rendering the reference"));
     let again = spar(&args);
-    assert!(again.status.success());
+    succeeded(&again);
     assert!(!String::from_utf8_lossy(&again.stderr).contains("rendering the reference"));
     let csv2 = std::fs::read_to_string(out.join("results.csv")).unwrap();
     let err = |c: &str| {
@@ -197,11 +202,7 @@ fn errors_on_every_kth_row_need_a_reference_of_those_rows() {
     };
     let run = |a: &[String]| spar(&a.iter().map(String::as_str).collect::<Vec<_>>());
     let rows4 = run(&base("4"));
-    assert!(
-        rows4.status.success(),
-        "{}",
-        String::from_utf8_lossy(&rows4.stderr)
-    );
+    succeeded(&rows4);
     let about = std::fs::read_to_string(out.join("reference.txt")).unwrap();
     assert!(about.contains("1 row in 4 (3 of 12 rows)"), "{about}");
     let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
@@ -250,11 +251,7 @@ fn paired_errors_are_the_settings_own() {
     ];
     args.extend(SMALL);
     let run = spar(&args);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    succeeded(&run);
     let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
     let rows: Vec<Vec<f64>> = csv
         .lines()
@@ -275,7 +272,7 @@ fn paired_errors_are_the_settings_own() {
     assert!(!about.contains("noise estimate"), "{about}");
     // Saved as one film; an unpaired run does not take it.
     let again = spar(&args);
-    assert!(again.status.success());
+    succeeded(&again);
     assert!(!String::from_utf8_lossy(&again.stderr).contains("rendering the reference"));
     let unpaired: Vec<&str> = args.iter().copied().filter(|a| *a != "--paired").collect();
     let refused = spar(&unpaired);
@@ -297,7 +294,7 @@ fn from_csv_merges_earlier_runs_without_rendering() {
         "--config",
         "",
     ]);
-    assert!(spar(&args).status.success());
+    succeeded(&spar(&args));
     let csv_a = a.join("results.csv");
     let first = std::fs::read_to_string(&csv_a).unwrap();
     // The same file twice: every row twice, equal rows never dominating
@@ -311,11 +308,7 @@ fn from_csv_merges_earlier_runs_without_rendering() {
         "-o",
         merged.to_str().unwrap(),
     ]);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    succeeded(&run);
     let both = std::fs::read_to_string(merged.join("results.csv")).unwrap();
     let lines: Vec<&str> = both.lines().collect();
     assert_eq!(lines[0], first.lines().next().unwrap());

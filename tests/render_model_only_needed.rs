@@ -116,29 +116,20 @@ fn dispersion_bands_trace_one_tree_per_band_along_its_middle() {
 
 #[test]
 fn dispersion_bands_leave_a_single_wavelength_mode_on_its_own_paths() {
+    use spar::render::output::OutputMode;
     let axis = "optic_axis = [0.3, 0.2, 1.0]";
     let (mut scene, _d) = scene(&gem("calcite", axis, 8, 1), &[]);
     let accel = spar::cli::render::build_accel_kind(&scene, 2, Default::default(), None).unwrap();
-    // Five colour wavelengths in two bands, and 437 nm for a mono mode.
-    let options =
-        |lambdas: &[f64], colour: usize, scene: &spar::scene::Scene| spar::render::RenderOptions {
-            colour_lambdas: colour,
-            approx: scene.settings.approx,
-            ..spar::render::RenderOptions::exact(
-                lambdas.to_vec(),
-                spar::render::integrator::TreeSettings {
-                    max_depth: scene.settings.max_depth,
-                    prune: scene.settings.prune,
-                },
-                1,
-                0,
-            )
-        };
-    let lambdas = [400.0, 425.0, 450.0, 475.0, 500.0, 437.0];
+    // Five colour wavelengths in two bands, and 437 nm for a DoP image.
+    scene.settings.wavelengths =
+        spar::spectrum::WavelengthSet::from_list(&[400.0, 425.0, 450.0, 475.0, 500.0]).unwrap();
     scene.settings.approx.dispersion = DispersionMode::Bands(2);
-    let (banded, _) = spar::render::render(&scene, accel.as_ref(), &options(&lambdas, 5, &scene));
+    let opts =
+        spar::cli::render::options_for(&scene, &[OutputMode::Color, OutputMode::Dop], 437.0, false);
+    assert_eq!(opts.lambdas[5], 437.0);
+    let (banded, _) = spar::render::render(&scene, accel.as_ref(), &opts);
     scene.settings.approx.dispersion = DispersionMode::On;
-    let (own, _) = spar::render::render(&scene, accel.as_ref(), &options(&[437.0], 1, &scene));
+    let (own, _) = render_at(&scene, &[437.0]);
     for y in 0..8 {
         for x in 0..8 {
             assert_eq!(banded.stokes(x, y, 5), own.stokes(x, y, 0), "({x}, {y})");

@@ -509,6 +509,17 @@ pub fn options_for(
     }
 }
 
+/// Refuses rendered values that are not finite (no NaN pixel is ever
+/// written): an internal error, never the input's fault.
+pub(crate) fn check_finite<'a>(values: impl IntoIterator<Item = &'a f32>) -> Result<(), CliError> {
+    if values.into_iter().any(|v| !v.is_finite()) {
+        return Err(CliError::Failed(
+            "internal error: the render produced non-finite values".into(),
+        ));
+    }
+    Ok(())
+}
+
 pub(crate) fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, CliError> {
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -535,11 +546,7 @@ pub fn render_film(
     let t1 = Instant::now();
     let (film, stats) = pool.install(|| crate::render::render(scene, accel.as_ref(), &options));
     let render_time = t1.elapsed();
-    if film.data.iter().flatten().any(|v| !v.is_finite()) {
-        return Err(CliError::Failed(
-            "internal error: the render produced non-finite values".into(),
-        ));
-    }
+    check_finite(film.data.iter().flatten())?;
     Ok(Rendered {
         film,
         stats,
@@ -916,11 +923,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             }));
         }
     };
-    if part.data.iter().any(|v| !v.is_finite()) {
-        return Err(CliError::Failed(
-            "internal error: the render produced non-finite values".into(),
-        ));
-    }
+    check_finite(&part.data)?;
     if raw {
         let image = part_image(&part, &info).map_err(CliError::Failed)?;
         crate::image::write(&args.output, &image, WriteOptions::new(PixelType::F32))

@@ -420,11 +420,7 @@ fn render_rows(
         debug_assert_eq!(part.nodes.len(), 1);
         data.extend(part.data);
     }
-    if data.iter().any(|v| !v.is_finite()) {
-        return Err(CliError::Failed(
-            "internal error: the render produced non-finite values".into(),
-        ));
-    }
+    super::render::check_finite(&data)?;
     let film = Film::from_sums(w, rows.len() as u32, options.lambdas, scene.samples, &data);
     Ok((film, t0.elapsed().as_secs_f64()))
 }
@@ -470,16 +466,14 @@ fn reference_identity(
     rows: u32,
     paired: bool,
 ) -> String {
-    let mut rows = if rows > 1 {
+    let rows = if rows > 1 {
         format!(" error_rows={rows}")
     } else {
         String::new()
     };
-    if paired {
-        rows.push_str(" paired");
-    }
+    let paired = if paired { " paired" } else { "" };
     format!(
-        "scene={} config={} lambdas={lambdas:?}{rows} version={}",
+        "scene={} config={} lambdas={lambdas:?}{rows}{paired} version={}",
         scene_hash(scene),
         config.label,
         crate::VERSION
@@ -627,7 +621,15 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
         .map_err(|e| input(format!("--reference-config {e}")))?;
     let scenes = configs
         .iter()
-        .map(|c| c.apply(&scene).map_err(|e| input(format!("--config {e}"))))
+        .map(|c| {
+            let mut s = c
+                .apply(&scene)
+                .map_err(|e| input(format!("--config {e}")))?;
+            if args.paired {
+                s.settings.seed = ref_scene.settings.seed;
+            }
+            Ok(s)
+        })
         .collect::<Result<Vec<Scene>, CliError>>()?;
     std::fs::create_dir_all(&args.output).map_err(|e| {
         input(format!(
@@ -751,11 +753,6 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
 
     let mut results = Vec::new();
     for (config, s) in configs.iter().zip(&scenes) {
-        let mut s = s.clone();
-        if args.paired {
-            s.settings.seed = ref_scene.settings.seed;
-        }
-        let s = &s;
         let r: Rendered = render_film(s, &modes, args.wavelength, threads, false, accel)?;
         let film = if whole {
             r.film
