@@ -177,7 +177,7 @@ impl Light {
             // normal incidence that is the transmission axis t itself.
             Polarization::Linear { axis } => k.cross(self.normal.cross(axis)),
             Polarization::CalcitePlate { keep, axis } => {
-                // Ordinary wave: E ∥ k × c (optics.md §4); along the axis the
+                // Ordinary wave: E ∥ k × c (docs/physics.md §4.3); along the axis the
                 // two waves are degenerate: take the light's first edge.
                 let mut e_o = k.cross(axis);
                 if e_o.length_squared() < 1e-24 {
