@@ -151,7 +151,9 @@ impl Light {
     }
 
     /// The largest radiance the light sends at any wavelength in 380–780 nm
-    /// (textures never exceed 1), for pruning bounds.
+    /// (textures never exceed 1). Only [`super::Scene::max_radiance`] calls
+    /// it, and nothing calls that: pruning does not need it
+    /// (docs/physics.md §5.3).
     pub fn max_radiance(&self) -> f64 {
         self.radiance * max_d65()
     }
