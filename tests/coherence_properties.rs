@@ -121,7 +121,7 @@ fn derived_quantities_stay_in_range_at_every_scale() {
 
 #[test]
 fn degree_of_polarization_matches_the_closed_form() {
-    // P = √(1 − 4 det J / (tr J)²) (optics.md §2), on moderate magnitudes
+    // P = √(1 − 4 det J / (tr J)²) (docs/physics.md §2), on moderate magnitudes
     // where the closed form is itself accurate.
     let mut rng = rng();
     for case in 0..CASES {

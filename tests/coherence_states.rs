@@ -1,5 +1,5 @@
 //! Coherence matrices of standard polarization states, against values worked
-//! out by hand from the definitions (optics.md §1–3).
+//! out by hand from the definitions (docs/physics.md §1–3).
 
 use glam::DVec3;
 use num_complex::Complex64;
@@ -130,7 +130,7 @@ fn ellipse_half_at_30_degrees() {
 
 #[test]
 fn half_unpolarized_half_ellipse() {
-    // optics.md §2: P = 0.5, b/a = 0.5, E_paper = tan(½ asin 0.4) = 0.2087.
+    // docs/physics.md §2.2: P = 0.5, b/a = 0.5, E_paper = tan(½ asin 0.4) = 0.2087.
     let j = Coherence::unpolarized(0.5) + Coherence::from_jones_vector(ellipse()) * 0.5;
     let p = Polarimetry::of(&j);
     assert_close(p.degree_of_polarization, 0.5, 1e-15, "P");

@@ -1,5 +1,5 @@
 //! Refractive indices of the built-in media against published values
-//! (optics.md §6 and the cited papers and data sheets).
+//! (docs/physics.md §8.1 and the cited papers and data sheets).
 
 use glam::DVec3;
 use spar::material::{self, Dispersion, Material};
@@ -18,7 +18,7 @@ const THREE_DECIMALS: f64 = 5e-4;
 
 #[test]
 fn calcite_ghosh_1999() {
-    // Ghosh 1999 / optics.md §6: at 589.3 nm n_o = 1.6583, n_e = 1.4861.
+    // Ghosh 1999 / docs/physics.md §8.1: at 589.3 nm n_o = 1.6583, n_e = 1.4861.
     let (n_o, n_e) = material::catalog::calcite().indices(589.3);
     assert_close(n_o, 1.6583, FOUR_DECIMALS, "calcite n_o");
     assert_close(n_e, 1.4861, FOUR_DECIMALS, "calcite n_e");

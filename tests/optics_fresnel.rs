@@ -1,4 +1,4 @@
-//! Isotropic interfaces against the check values of optics.md §6 and the
+//! Isotropic interfaces against the check values of docs/physics.md §8.2 and the
 //! textbook (Born & Wolf §1.5): every expected number is computed here from
 //! its own formula or quoted from the reference, never taken from the code
 //! under test.
@@ -59,7 +59,7 @@ fn ellipticity(e: CVec3) -> f64 {
 
 #[test]
 fn glass_at_45_degrees() {
-    // optics.md §6: n = 1.5 from air at 45°: Rs = 0.092013, Rp = 0.008466.
+    // docs/physics.md §8.2: n = 1.5 from air at 45°: Rs = 0.092013, Rp = 0.008466.
     let g = iso(1.0, 1.5);
     let th = 45f64.to_radians();
     for solver in [false, true] {
@@ -78,7 +78,7 @@ fn glass_at_45_degrees() {
 
 #[test]
 fn brewster_angle_of_n_bk7() {
-    // optics.md §6: θ_B = atan(1.5168) = 56.60° from air; there Rp = 0 and
+    // docs/physics.md §8.2: θ_B = atan(1.5168) = 56.60° from air; there Rp = 0 and
     // the reflected part of unpolarized light is fully polarized.
     let n = 1.5168;
     let g = iso(1.0, n);
@@ -116,7 +116,7 @@ fn brewster_angle_of_n_bk7() {
 
 #[test]
 fn critical_angle_of_n_bk7() {
-    // optics.md §6: asin(1/1.5168) = 41.25° from N-BK7 into air.
+    // docs/physics.md §8.2: asin(1/1.5168) = 41.25° from N-BK7 into air.
     let n = 1.5168;
     let g = iso(n, 1.0);
     let theta_c = (1.0 / n).asin();
@@ -189,7 +189,7 @@ fn total_internal_reflection_phases_across_angles() {
 
 #[test]
 fn one_total_internal_reflection_at_45_degrees_gives_b_over_a_one_third() {
-    // optics.md §6: n = 1.5 glass, 45° inside: light linear at 45° to the
+    // docs/physics.md §8.2: n = 1.5 glass, 45° inside: light linear at 45° to the
     // plane of incidence becomes an ellipse with b/a = 1/3, |δ| = 36.87°.
     let g = iso(1.5, 1.0);
     let th = 45f64.to_radians();
@@ -213,7 +213,7 @@ fn one_total_internal_reflection_at_45_degrees_gives_b_over_a_one_third() {
 
 #[test]
 fn fresnel_rhomb_makes_circular_light() {
-    // optics.md §6: n₁ = 1.51, θ ≈ 54.6° gives δ = 45° per reflection; two
+    // docs/physics.md §8.2: n₁ = 1.51, θ ≈ 54.6° gives δ = 45° per reflection; two
     // reflections turn light linear at 45° into circular light.
     let n1 = 1.51;
     let a = iso(n1, 1.0);

@@ -3,7 +3,7 @@
 //! sides and modes, isotropic/uniaxial/degenerate (n_o = n_e) media on both
 //! sides (so crystal↔crystal is included).
 //!
-//! Laws checked (optics.md §4, §5):
+//! Laws checked (docs/physics.md §4.4–4.7):
 //! - the normal energy flux is conserved: Σ |ã_j|² = 1;
 //! - the energy-normalized scattering matrix over propagating modes is
 //!   unitary: ÃᴴÃ = I;

@@ -1,4 +1,4 @@
-//! Uniaxial crystals against optics.md §6 and first principles: calcite
+//! Uniaxial crystals against docs/physics.md §8.3 and first principles: calcite
 //! walk-off and the calcite slab, Malus's law with calcite as the analyzer,
 //! the reduction to the isotropic answer when n_o = n_e, Maxwell's equations
 //! for every eigenwave, and the energy rule for choosing roots. Expected
@@ -27,12 +27,12 @@ fn calcite(axis: DVec3) -> Medium {
 const AIR: Medium = Medium::Isotropic { n: 1.0 };
 
 /// Index of the extraordinary wave whose wave normal makes angle θ with the
-/// axis: 1/n(θ)² = cos²θ/n_o² + sin²θ/n_e² (optics.md §6).
+/// axis: 1/n(θ)² = cos²θ/n_o² + sin²θ/n_e² (docs/physics.md §4.3).
 fn n_theta(theta: f64) -> f64 {
     1.0 / ((theta.cos() / N_O).powi(2) + (theta.sin() / N_E).powi(2)).sqrt()
 }
 
-/// Walk-off angle: tan ρ = ½ n(θ)² (1/n_e² − 1/n_o²) sin 2θ (optics.md §6).
+/// Walk-off angle: tan ρ = ½ n(θ)² (1/n_e² − 1/n_o²) sin 2θ (docs/physics.md §4.3).
 fn tan_walk_off(theta: f64) -> f64 {
     0.5 * n_theta(theta).powi(2) * (1.0 / (N_E * N_E) - 1.0 / (N_O * N_O)) * (2.0 * theta).sin()
 }
@@ -373,7 +373,7 @@ fn roots_are_chosen_by_energy_not_by_the_wave_vector() {
     // Calcite on side + with its axis 45° in the x–z plane, t along +x. For
     // the incident e wave q = (−β − √Δ)/A with β = (n_e² − n_o²) a b < 0,
     // so close to grazing k·N > 0 — k points away from the interface —
-    // while the energy flows toward it (optics.md §4).
+    // while the energy flows toward it (docs/physics.md §4.1).
     let c = axis45();
     let g = Interface::new(DVec3::Z, calcite(c), AIR).unwrap();
     let mut found = 0;
@@ -383,7 +383,7 @@ fn roots_are_chosen_by_energy_not_by_the_wave_vector() {
         let Ok(w) = g.incident_wave(Side::Plus, Mode::E, DVec3::new(tx, 0.0, 0.0)) else {
             break;
         };
-        // The ray from optics.md §4, computed here: S ∝ k/n_e² + κ (k·c) c.
+        // The ray from docs/physics.md §4.3, computed here: S ∝ k/n_e² + κ (k·c) c.
         let k = w.k.re;
         let kappa = 1.0 / (N_O * N_O) - 1.0 / (N_E * N_E);
         let s = k / (N_E * N_E) + c * (kappa * k.dot(c));

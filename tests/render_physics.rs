@@ -1,4 +1,4 @@
-//! The renderer against physics it must reproduce (optics.md §6), on small
+//! The renderer against physics it must reproduce (docs/physics.md §8.5), on small
 //! images: direct views of lights, Brewster reflection, calcite double
 //! refraction, a Fresnel rhomb. Each checks a number the renderer did not
 //! compute itself.
@@ -150,7 +150,7 @@ radiance = 1.0
 }
 
 /// A calcite slab, axis at 45° to its faces, over a thin bright line: two
-/// images, displaced by d·tan ρ = 0.1091 d (ρ the walk-off, optics.md §6),
+/// images, displaced by d·tan ρ = 0.1091 d (ρ the walk-off, docs/physics.md §8.3),
 /// each fully polarized, the polarizations orthogonal.
 fn calcite_slab_doubles_a_line_with_the_walk_off_displacement(accel: AccelKind) {
     let d = 1.0;
@@ -206,7 +206,7 @@ radiance = 1.0
     let (c1, c2) = (centroid(p1), centroid(p2));
     let separation = (c1 - c2).abs() * 0.005;
     eprintln!("slab: separation {separation}, peaks at rows {p1} {p2}");
-    // tan ρ for the wave normal at 45° to the axis (optics.md §6).
+    // tan ρ for the wave normal at 45° to the axis (docs/physics.md §4.3).
     let (no, ne) = (1.6584f64, 1.4864f64);
     let inv_n2 = 0.5 / (no * no) + 0.5 / (ne * ne);
     let tan_rho = 0.5 / inv_n2 * (1.0 / (ne * ne) - 1.0 / (no * no));
@@ -230,7 +230,7 @@ radiance = 1.0
     let diff = (psia - psib).abs();
     assert!((diff - 90.0).abs() < 1.0, "azimuths {psia} {psib}");
     // Each carries about half an unpolarized beam's transmitted power
-    // (0.4405 and 0.4526 of it through a slab, optics.md §6): equal powers
+    // (0.4405 and 0.4526 of it through a slab, docs/physics.md §8.3): equal powers
     // within 5 %. The power of an image is its sum over the rows around its
     // peak; a peak row alone depends on where the 2-row-wide line falls
     // within it, and at 8 samples per pixel the sums still vary by several
@@ -247,7 +247,7 @@ radiance = 1.0
 
 /// A Fresnel rhomb of n = 1.51 with 54.6° angles: two total internal
 /// reflections turn light linear at 45° to the plane of incidence into
-/// circular light (optics.md §6).
+/// circular light (docs/physics.md §8.2).
 fn fresnel_rhomb_makes_circular_light(accel: AccelKind) {
     let theta = 54.6f64.to_radians();
     // Cross-section in the x–z plane: a parallelogram whose long faces are

@@ -85,7 +85,7 @@ pub fn fused_silica() -> Material {
 pub fn diamond() -> Material {
     // Peter 1923, "Über Brechungsindizes und Absorptionskonstanten des
     // Diamanten zwischen 644 und 226 mµ", Z. Phys. 15, 358 (the two-term
-    // Sellmeier fit as tabulated by refractiveindex.info; optics.md §6):
+    // Sellmeier fit as tabulated by refractiveindex.info; docs/physics.md §8.1):
     // poles at 0.1750 µm and 0.1060 µm.
     Material::isotropic(
         "diamond",

@@ -1,5 +1,5 @@
 //! The backward query: which forward incident waves feed a given outgoing
-//! wave, and with which Jones blocks (optics.md §5). This is the renderer's
+//! wave, and with which Jones blocks (docs/physics.md §4.6). This is the renderer's
 //! hot path: no heap allocation, fixed-size results, closed-form Fresnel for
 //! isotropic pairs and one 4×4 factorization shared by all candidates
 //! otherwise.
@@ -33,7 +33,7 @@
 //!   `basis = [s, p]`, `p = k̂ × s`. `(s, p, k̂)` is right-handed
 //!   (`s × p = k̂`): a receiver looking back at the source (line of sight
 //!   `−k̂`) sees `s` as its x axis and `p` as its y axis, with `x × y`
-//!   pointing at itself — the (x, y) of optics.md §1, so Stokes parameters
+//!   pointing at itself — the (x, y) of docs/physics.md §1.3, so Stokes parameters
 //!   can be read off directly in `[s, p]`. The same `s` serves every wave of
 //!   the query; `p` differs per wave.
 //! - Ordinary or extraordinary wave: `basis = [ê, 0]` with `ê` the unit
@@ -49,7 +49,7 @@
 //! forward wave: a feeder field of unit energy-normalized amplitude along
 //! its basis vector `c` produces `ã` times unit energy-normalized amplitude
 //! along `w`'s basis vector `r`. A feeder's coherence matrix `J_c` in its
-//! basis contributes `T J_c Tᴴ` to `w`'s, in `w`'s basis (optics.md §3); to
+//! basis contributes `T J_c Tᴴ` to `w`'s, in `w`'s basis (docs/physics.md §3); to
 //! use another transverse basis, rotate `J` (the basis vectors are returned
 //! for exactly that). Energy-normalized amplitudes make `Σ |ã|²` over all
 //! outgoing waves of each incident mode 1; the `n²` radiance factor is left
@@ -501,7 +501,7 @@ fn basis_of(w0: &Eigenwave, w1: Option<&Eigenwave>, kind: WaveKind) -> WaveBasis
     }
 }
 
-/// Two isotropic media: the closed forms (optics.md §4), the target on
+/// Two isotropic media: the closed forms (docs/physics.md §4.2), the target on
 /// `side` in index `n_w`, the other side of index `n_x`.
 #[inline]
 fn isotropic_pair(frame: &TangentFrame, side: Side, n_w: f64, n_x: f64, result: &mut Feeders) {

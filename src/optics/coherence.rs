@@ -1,7 +1,7 @@
 //! Coherence matrices J = ⟨E Eᴴ⟩ of partially polarized light, and the
 //! Stokes parameters derived from them.
 //!
-//! # Conventions (optics.md §1)
+//! # Conventions (docs/physics.md §1)
 //!
 //! - Time dependence: fields are phasors of `exp(i(k·r − ωt))`. (The seed
 //!   paper writes `exp(i(ωt + δ))`; that flips the sign of S3 and nothing
@@ -35,7 +35,7 @@ use std::iter::Sum;
 use std::ops::{Add, AddAssign, Mul};
 
 /// Sense of rotation of the polarized part, as the receiver sees it
-/// (optics convention, optics.md §1).
+/// (optics convention, docs/physics.md §1.3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Handedness {
     /// Clockwise for the receiver: `S3 > 0`.
@@ -231,7 +231,7 @@ impl Coherence {
     }
 
     /// `T J Tᴴ`: the coherence matrix after a deterministic interaction with
-    /// amplitude block `t` (optics.md §3). `t.cols` must equal
+    /// amplitude block `t` (docs/physics.md §3). `t.cols` must equal
     /// [`Self::modes`]; the result has `t.rows` modes. The diagonal is
     /// computed as a real sum, so the result is Hermitian exactly.
     pub fn transform(&self, t: &Jones) -> Coherence {

@@ -1,5 +1,5 @@
 //! Closed-form Fresnel coefficients for an interface between two isotropic
-//! media (optics.md §4; Born & Wolf §1.5.2, eqs. (20)–(21)): the fast path
+//! media (docs/physics.md §4.2; Born & Wolf §1.5.2, eqs. (20)–(21)): the fast path
 //! for glass, diamond and air, and the first check of the 4×4 solver.
 //!
 //! # Field vectors the coefficients refer to

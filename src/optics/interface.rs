@@ -1,5 +1,5 @@
 //! The forward interface problem: one incident plane wave, every outgoing
-//! wave with its amplitude (optics.md §4; the tangential-field 4×4 method
+//! wave with its amplitude (docs/physics.md §4.4; the tangential-field 4×4 method
 //! of Berreman, JOSA 62, 502 (1972); Yariv & Yeh ch. 4; Born & Wolf
 //! §1.5 and ch. 15).
 //!
@@ -17,7 +17,7 @@
 //!
 //! Radiance also scales by `n²` between media; the renderer's Jones blocks
 //! use `ã` and leave that factor out, because for a camera and lights in
-//! air it cancels along every closed path (optics.md §4).
+//! air it cancels along every closed path (docs/physics.md §4.5).
 
 use super::fresnel::fresnel_from_normals;
 use super::linalg::{CVec3, Lu2, Lu4, Scalar};
@@ -173,7 +173,7 @@ impl Interface {
 
     /// The wave vector of a `mode` wave on `side` whose wave normal is along
     /// `direction`, checked to be an incident wave: its energy must flow
-    /// toward the interface (`σ (S·N) < 0`, optics.md §4).
+    /// toward the interface (`σ (S·N) < 0`, docs/physics.md §4.1).
     pub fn incident_k(
         &self,
         side: Side,

@@ -1,7 +1,7 @@
 //! Fixed-size complex linear algebra for the interface solver: complex
 //! 3-vectors (fields and wave vectors of evanescent waves) and a 4×4 complex
 //! LU factorization with partial pivoting (the boundary-condition system of
-//! optics.md §4).
+//! docs/physics.md §4.4).
 //!
 //! Everything here is stack-only: no heap allocation, so the renderer's hot
 //! path (the backward query) can call it per ray.

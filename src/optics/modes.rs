@@ -1,5 +1,5 @@
 //! Eigenwaves (plane-wave modes) of isotropic and uniaxial media that share
-//! one tangential wave vector at an interface (optics.md §4; Born & Wolf
+//! one tangential wave vector at an interface (docs/physics.md §4.1–4.3; Born & Wolf
 //! ch. 15; Yariv & Yeh ch. 4).
 //!
 //! # Conventions (all of spar's interface physics uses these)
@@ -17,7 +17,7 @@
 //! - **Incoming/outgoing** is decided by energy, not by `k`: a wave on side σ
 //!   (σ = +1 or −1) is outgoing when `σ (S·N) > 0` and incoming when
 //!   `σ (S·N) < 0`. For the extraordinary wave the two rules differ near
-//!   grazing incidence and only the energy rule is right (optics.md §4).
+//!   grazing incidence and only the energy rule is right (docs/physics.md §4.1).
 //!   An outgoing evanescent wave is the one that decays away from the
 //!   interface: `σ Im q > 0`.
 //! - **Tangent frame** ([`TangentFrame`]): `s = unit(t × N)`; when
@@ -285,18 +285,18 @@ impl TangentFrame {
 
 /// The quadratic `A q² + 2 β q + C = 0` for the normal component `q` of
 /// `k = t + q N` on one sheet of a medium's wave-vector surface, with
-/// `Δ = β² − A C` (optics.md §4, multiplied through so that no reciprocal
+/// `Δ = β² − A C` (docs/physics.md §4.3, multiplied through so that no reciprocal
 /// index is rounded).
 ///
 /// - Isotropic or ordinary sheet `|k|² = n²`: `A = 1`, `β = 0`,
 ///   `C = T² − n²`, `Δ = n² − T²`.
-/// - Extraordinary sheet, optics.md §4's ellipsoid times `n_o² n_e²`:
+/// - Extraordinary sheet, the ellipsoid of docs/physics.md §4.3 times `n_o² n_e²`:
 ///   `n_o² |k|² + δ (k·c)² = n_o² n_e²` with `δ = n_e² − n_o²`, `a = c·N`,
 ///   `b = c·t`: `A = n_o² + δ a²`, `β = δ a b`,
 ///   `C = n_o² T² + δ b² − n_o² n_e²` and, with the `δ² a² b²` terms
 ///   cancelled exactly, `Δ = n_o² [n_o² (n_e² − T²) − δ (b² + a² T² − a² n_e²)]`.
 ///
-/// The ray direction is `g = M k` (the sheet's normal, optics.md §4), and
+/// The ray direction is `g = M k` (the sheet's normal, docs/physics.md §4.3), and
 /// `g·N = (A q + β) · g_scale = ±√Δ · g_scale` with `g_scale = 1/n²` or
 /// `1/(n_o² n_e²)`: the sign of the root *is* the direction of the energy
 /// flow across the interface.
@@ -791,7 +791,7 @@ fn unit_or(v: CVec3, scale2: f64, tol2: f64, fallback: DVec3) -> CVec3 {
 #[inline]
 fn field(medium: &Medium, frame: &TangentFrame, mode: Mode, k: CVec3) -> CVec3 {
     match (*medium, mode) {
-        // Isotropic s: E = s (optics.md §4).
+        // Isotropic s: E = s (docs/physics.md §4.2).
         (Medium::Isotropic { .. }, Mode::S) => CVec3::real(frame.s),
         // Isotropic p: E = k × s / n, so (s, p, k̂) is right-handed.
         (Medium::Isotropic { n }, _) => k.cross_real(frame.s) * (1.0 / n),
@@ -799,7 +799,7 @@ fn field(medium: &Medium, frame: &TangentFrame, mode: Mode, k: CVec3) -> CVec3 {
         (Medium::Uniaxial { axis, .. }, Mode::O) => {
             unit_or(k.cross_real(axis), k.norm_sqr(), AXIS_TOL_SQUARED, frame.s)
         }
-        // Extraordinary: D ∥ k × E_o(k), E = ε⁻¹ D (optics.md §4, B&W ch. 15).
+        // Extraordinary: D ∥ k × E_o(k), E = ε⁻¹ D (docs/physics.md §4.3, B&W ch. 15).
         (Medium::Uniaxial { n_o, n_e, axis }, _) => {
             let e_o = unit_or(k.cross_real(axis), k.norm_sqr(), AXIS_TOL_SQUARED, frame.s);
             let d = k.cross(e_o);
@@ -851,7 +851,7 @@ fn field_real(medium: &Medium, frame: &TangentFrame, sheet: &Sheet, mode: Mode, 
 
 /// The (unnormalized) ray direction `M k` of a real wave vector on the
 /// sheet of `kind`: `k/n²` for isotropic and ordinary waves,
-/// `k/n_e² + κ (k·c) c` for the extraordinary wave (optics.md §4).
+/// `k/n_e² + κ (k·c) c` for the extraordinary wave (docs/physics.md §4.3).
 #[inline]
 pub fn ray_vector(medium: &Medium, kind: WaveKind, k: DVec3) -> DVec3 {
     match (*medium, kind) {
@@ -877,7 +877,7 @@ pub fn k_from_wave_normal(medium: &Medium, kind: WaveKind, dir: DVec3) -> DVec3 
 /// The wave vector on the sheet of `kind` whose ray (energy) direction is
 /// along `ray` (any non-zero length): `k = M⁻¹ S / sqrt(Sᵀ M⁻¹ S)` with
 /// `M⁻¹ = n_e² I + (n_o² − n_e²) c cᵀ` for the extraordinary wave and
-/// `n² I` otherwise (inverting `S ∝ M k`, optics.md §5).
+/// `n² I` otherwise (inverting `S ∝ M k`, docs/physics.md §4.3).
 #[inline]
 pub fn k_from_ray(medium: &Medium, kind: WaveKind, ray: DVec3) -> DVec3 {
     let r = ray.normalize();

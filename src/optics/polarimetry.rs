@@ -1,4 +1,4 @@
-//! What the camera "photographs" (optics.md §2): intensity, degree of
+//! What the camera "photographs" (docs/physics.md §2): intensity, degree of
 //! polarization, ellipse azimuth and ellipticity of the light reaching a
 //! pixel, from the coherence matrix summed over every ray of that pixel (in
 //! one pixel basis, before deriving anything).
@@ -8,7 +8,7 @@
 //!   `sin 2χ = S3 / Ip` (0 linear, 1 circular; 0 where nothing is polarized).
 //! - [`Polarimetry::ellipticity_paper`]: the seed paper's map,
 //!   `E_paper = tan(½ asin(|S3| / S0))`, which is what its eqs. (4)–(5)
-//!   reduce to once the square roots cancel (optics.md §2 errata). This one
+//!   reduce to once the square roots cancel (docs/physics.md §2.2). This one
 //!   reproduces the seed's figures. For fully polarized light it equals
 //!   b/a; for partially polarized light it is b/a weighted by P (half
 //!   unpolarized light plus an ellipse of b/a = 0.5 gives 0.2087, not 0.5).

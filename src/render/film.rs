@@ -1,7 +1,7 @@
 //! The film: per pixel and per traced wavelength, the sum over the pixel's
 //! samples of the Stokes parameters of the arriving light, in the pixel's
 //! polarization frame (see [`super::camera`]). Matrices are summed before
-//! anything is derived from them (optics.md §2); the division by the sample
+//! anything is derived from them (docs/physics.md §2); the division by the sample
 //! count happens once, when a value is read.
 //!
 //! The sums are `f32`, added in the fixed tree order of

@@ -1,4 +1,4 @@
-//! The backward ray-tree integrator with forward physics (optics.md §5).
+//! The backward ray-tree integrator with forward physics (docs/physics.md §5).
 //!
 //! A camera ray is a forward wave arriving at the camera, traced backward.
 //! At each surface it meets, the interface solver's backward query lists
@@ -10,7 +10,7 @@
 //! eigenwave (o or e) of a crystal.
 //!
 //! Radiance and the n² factor: radiance scales by n² between media
-//! (optics.md §4). The camera and every light are in air (n = 1), so along
+//! (docs/physics.md §4.5). The camera and every light are in air (n = 1), so along
 //! any closed path from a light to the camera the factors of the media
 //! entered and left cancel, and the integrator leaves them out: the Jones
 //! blocks carry energy-normalized amplitudes only.

@@ -151,7 +151,9 @@ impl Light {
     }
 
     /// The largest radiance the light sends at any wavelength in 380–780 nm
-    /// (textures never exceed 1), for pruning bounds.
+    /// (textures never exceed 1). Only [`super::Scene::max_radiance`] calls
+    /// it, and nothing calls that: pruning does not need it
+    /// (docs/physics.md §5.3).
     pub fn max_radiance(&self) -> f64 {
         self.radiance * max_d65()
     }
@@ -177,7 +179,7 @@ impl Light {
             // normal incidence that is the transmission axis t itself.
             Polarization::Linear { axis } => k.cross(self.normal.cross(axis)),
             Polarization::CalcitePlate { keep, axis } => {
-                // Ordinary wave: E ∥ k × c (optics.md §4); along the axis the
+                // Ordinary wave: E ∥ k × c (docs/physics.md §4.3); along the axis the
                 // two waves are degenerate: take the light's first edge.
                 let mut e_o = k.cross(axis);
                 if e_o.length_squared() < 1e-24 {

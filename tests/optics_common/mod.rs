@@ -96,7 +96,7 @@ pub fn close(a: f64, b: f64, tol: f64) -> bool {
 /// Squared tangential length at which the wave sheets of `m` turn
 /// evanescent along the in-plane unit direction `u` (normal `n`): `n²` for
 /// an isotropic or ordinary sheet; for the extraordinary sheet the root of
-/// Δ(λ u) = 0, where (optics.md §4, with a = c·N, b = λ c·u, T = λ)
+/// Δ(λ u) = 0, where (docs/physics.md §4.3, with a = c·N, b = λ c·u, T = λ)
 /// Δ = A − λ² [1/n_e⁴ + κ ((c·u)² + a²)/n_e²].
 pub fn critical_tt(m: &Medium, n: DVec3, u: DVec3) -> Vec<f64> {
     match *m {
