@@ -58,12 +58,11 @@ Making the numbers comparable:
   Mitsuba's `polarizer` BSDF (a plate just in front of the back light)
   passes, at oblique incidence, the field k × a (a = absorbing axis, the
   plate's V direction; Korger et al. 2013), as a sheet or wire-grid
-  polarizer does. spar's `linear = t` light instead passes t projected
-  transverse to k: the two differ in azimuth by asin(|(k·t)(k·a)| /
-  sqrt((1 − (k·t)²)(1 − (k·a)²))), 0 at normal incidence, 19.5° for a
-  ray 45° off the normal along the diagonal (here up to 0.4 in S1/S0, S2/S0
-  through the cube). spar's `calcite_plate = { keep = "o", axis = a }`
-  passes exactly k × a, so that is what spar gets. The probe looks straight at the polarized light, whose
+  polarizer does. spar's `linear = t` light now passes the same k × (N × t)
+  (src/scene/light.rs, since commit 6693708; earlier it passed t projected
+  transverse to k, which differs by up to 19.5° off the normal). The script
+  still gives spar `calcite_plate = { keep = "o", axis = a }`, which passes
+  k × a exactly and so is the same field as Mitsuba's plate. The probe looks straight at the polarized light, whose
   transmission axis is 30° from image right toward image up: both
   renderers must give S1/S0 = cos 60° = +0.5, S2/S0 = sin 60° = +0.866.
 
