@@ -512,12 +512,13 @@ pub fn options_for(
 /// Refuses rendered values that are not finite (no NaN pixel is ever
 /// written): an internal error, never the input's fault.
 pub(crate) fn check_finite<'a>(values: impl IntoIterator<Item = &'a f32>) -> Result<(), CliError> {
-    if values.into_iter().any(|v| !v.is_finite()) {
-        return Err(CliError::Failed(
-            "internal error: the render produced non-finite values".into(),
-        ));
+    match crate::farm::non_finite(values) {
+        Some((first, count)) => Err(CliError::Failed(format!(
+            "internal error: the render produced {count} non-finite value(s), the first at raw \
+             value {first}"
+        ))),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 pub(crate) fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, CliError> {
