@@ -98,9 +98,16 @@ pub fn check_accel(kind: AccelKind, isa: Option<&str>) -> Result<(), CliError> {
 /// The render-farm flags of `spar render`.
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct FarmArgs {
-    /// Render only the pixels x0..x1, y0..y1 (ends exclusive) into a raw
+    /// Render only the pixels x from X0 to X1 and y from Y0 to Y1 (ends
+    /// exclusive; `--region 0,64,0,32` is the top-left 64x32) into a raw
     /// EXR part.
-    #[arg(long, value_parser = Rect::parse, conflicts_with = "tile")]
+    #[arg(
+        long,
+        value_name = "X0,X1,Y0,Y1",
+        value_parser = Rect::parse,
+        conflicts_with = "tile",
+        allow_hyphen_values = true
+    )]
     pub region: Option<Rect>,
     /// Render tile I of the N-way split spar computes (I counts from 0)
     /// into a raw EXR part.
