@@ -159,7 +159,6 @@ pub fn run(args: &CutArgs) -> Result<(), CliError> {
 
 /// Runs `spar cut`, printing the summary to `out`.
 pub fn run_to(args: &CutArgs, out: &mut dyn Write) -> Result<(), CliError> {
-    check_obj_output(&args.output)?;
     let (mesh, mut comments, notes) = if args.cut.to_ascii_lowercase().ends_with(".asc") {
         from_asc(args)?
     } else {
@@ -172,6 +171,8 @@ pub fn run_to(args: &CutArgs, out: &mut dyn Write) -> Result<(), CliError> {
             args.cut
         )));
     }
+    // After the flags' own errors, before anything is written.
+    check_obj_output(&args.output)?;
     comments.push(report.summary());
     for note in notes.iter().chain(&report.warnings()) {
         eprintln!("spar: warning: {note}");
