@@ -140,7 +140,8 @@ fn user_errors_exit_2_and_name_the_flag() {
         assert_eq!(e.exit_status(), 2, "{argv:?}: {e}");
         assert!(e.to_string().contains(word), "{argv:?}: {e}");
     }
-    // A bad output path is not the user's input: status 1.
+    // A bad output path is the user's too (as for render and merge).
     let e = run(&["princess", "-o", out]).unwrap_err();
-    assert_eq!(e.exit_status(), 1, "{e}");
+    assert_eq!(e.exit_status(), 2, "{e}");
+    assert!(e.to_string().contains(out), "{e}");
 }

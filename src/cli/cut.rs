@@ -31,8 +31,8 @@ pub struct CutArgs {
     /// file.
     #[arg(value_name = "CUT")]
     pub cut: String,
-    /// Output OBJ file.
-    #[arg(long, short, value_name = "FILE")]
+    /// Output OBJ file (its name must end in .obj).
+    #[arg(long, short, value_name = "FILE.obj")]
     pub output: PathBuf,
     /// Girdle diameter (round-brilliant, oval: the width), scene units.
     #[arg(long)]
@@ -171,14 +171,48 @@ pub fn run_to(args: &CutArgs, out: &mut dyn Write) -> Result<(), CliError> {
             args.cut
         )));
     }
+    // After the flags' own errors, before anything is written.
+    check_obj_output(&args.output)?;
     comments.push(report.summary());
     for note in notes.iter().chain(&report.warnings()) {
         eprintln!("spar: warning: {note}");
     }
     let text = write_obj(&mesh, &comments);
     crate::atomic_file::write(&args.output, text.as_bytes())
-        .map_err(|e| CliError::Failed(format!("cannot write {}: {e}", args.output.display())))?;
+        .map_err(|e| CliError::Input(format!("{}: cannot write: {e}", args.output.display())))?;
     let _ = writeln!(out, "{}: {}", args.output.display(), report.summary());
+    Ok(())
+}
+
+/// Refuses, before any work, an output that is not an `.obj` file name
+/// (`-o x.png` would get OBJ text) or whose directory does not exist.
+fn check_obj_output(path: &std::path::Path) -> Result<(), CliError> {
+    if path
+        .extension()
+        .is_none_or(|e| !e.eq_ignore_ascii_case("obj"))
+    {
+        return Err(CliError::Input(format!(
+            "{}: spar cut writes OBJ text; name the output .obj",
+            path.display()
+        )));
+    }
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(std::path::Path::new("."));
+    if !dir.is_dir() {
+        return Err(CliError::Input(format!(
+            "{}: the directory {} does not exist",
+            path.display(),
+            dir.display()
+        )));
+    }
+    if path.is_dir() {
+        return Err(CliError::Input(format!(
+            "{}: is a directory, not a file name",
+            path.display()
+        )));
+    }
     Ok(())
 }
 

@@ -43,6 +43,16 @@ pub fn run(args: &DevelopArgs) -> Result<(), CliError> {
         check_output(&output_path(&args.output, m, modes.len() > 1))?;
     }
     let part = read_part(&args.raw).map_err(|e| input(e.to_string()))?;
+    // The film and each developed image are copies of about the raw size.
+    crate::farm::memory::check(
+        part.data.len() as f64 * 4.0 * (2 + modes.len()) as f64,
+        &format!(
+            "developing {} in {} mode(s)",
+            args.raw.display(),
+            modes.len()
+        ),
+    )
+    .map_err(input)?;
     let dev = load_film(part).map_err(|e| input(e.to_string()))?;
     let mono = args.wavelength.unwrap_or(dev.mono_nm);
     let reporter = Reporter::new(if args.quiet {

@@ -24,30 +24,44 @@ pub struct Cli {
     pub command: Command,
 }
 
+/// Every subcommand takes negative numbers as option values
+/// (`--prune -1`, `--crown-angle -5`): they reach the flag's own check,
+/// which says what it takes, instead of clap's "use '-- -1'" hint (wrong
+/// for an option). List values that start with a minus (`--axis -1,0,0`)
+/// need `allow_hyphen_values` on their argument.
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Render a scene (default: the embedded calcite gem) to images.
+    #[command(allow_negative_numbers = true)]
     Render(render::RenderArgs),
     /// Render several scenes in several modes into one labelled sheet.
+    #[command(allow_negative_numbers = true)]
     ContactSheet(contact_sheet::ContactSheetArgs),
     /// Render a scene with both intersection backends (Embree and the Rust
     /// BVH): their speed and how far their images are apart.
+    #[command(allow_negative_numbers = true)]
     Compare(compare::CompareArgs),
     /// Generate a standard cut (round-brilliant, oval, princess, emerald)
     /// or a GemCAD .asc design's stone as OBJ.
+    #[command(allow_negative_numbers = true)]
     Cut(cut::CutArgs),
     /// Solve one interface: every outgoing wave for one incident wave.
+    #[command(allow_negative_numbers = true)]
     Interface(interface::InterfaceArgs),
     /// Merge the raw parts of one render (tiles, regions, sample blocks)
     /// into the whole raw render.
+    #[command(allow_negative_numbers = true)]
     Merge(merge::MergeArgs),
     /// Make images from a complete raw render (merged or --raw).
+    #[command(allow_negative_numbers = true)]
     Develop(develop::DevelopArgs),
     /// Print a render-farm job (Slurm script or OpenJD template) that
     /// renders a scene as tiles and merges them.
+    #[command(allow_negative_numbers = true)]
     Plan(plan::PlanArgs),
     /// Render a scene under a sweep of settings and measure each one's
     /// time and error against a converged reference (CSV, table, plot).
+    #[command(allow_negative_numbers = true)]
     SpeedError(speed_error::SpeedErrorArgs),
 }
 

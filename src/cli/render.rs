@@ -48,7 +48,8 @@ pub struct RenderArgs {
     pub farm: FarmArgs,
     #[command(flatten)]
     pub accel: AccelArgs,
-    /// Worker threads (default: all cores).
+    /// Worker threads (default or 0: one per core; at most 8 per core, and
+    /// at least 64 are always allowed).
     #[arg(long)]
     pub threads: Option<usize>,
     /// No progress or summary.
@@ -97,9 +98,16 @@ pub fn check_accel(kind: AccelKind, isa: Option<&str>) -> Result<(), CliError> {
 /// The render-farm flags of `spar render`.
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct FarmArgs {
-    /// Render only the pixels x0..x1, y0..y1 (ends exclusive) into a raw
+    /// Render only the pixels x from X0 to X1 and y from Y0 to Y1 (ends
+    /// exclusive; `--region 0,64,0,32` is the top-left 64x32) into a raw
     /// EXR part.
-    #[arg(long, value_parser = Rect::parse, conflicts_with = "tile")]
+    #[arg(
+        long,
+        value_name = "X0,X1,Y0,Y1",
+        value_parser = Rect::parse,
+        conflicts_with = "tile",
+        allow_hyphen_values = true
+    )]
     pub region: Option<Rect>,
     /// Render tile I of the N-way split spar computes (I counts from 0)
     /// into a raw EXR part.
@@ -245,6 +253,7 @@ impl SceneOverrides {
             scene.settings.approx.dispersion = d;
         }
         if let Some(spec) = &self.wavelengths {
+            check_wavelength_count(spec)?;
             scene.settings.wavelengths =
                 WavelengthSet::parse(spec).map_err(|e| input(format!("--wavelengths: {e}")))?;
         }
@@ -268,6 +277,15 @@ impl SceneOverrides {
             None => {}
         }
         if let Some((w, h)) = self.resolution {
+            if w > MAX_SIDE || h > MAX_SIDE {
+                let n = scene.settings.wavelengths.len();
+                let need = film_bytes(w as u64 * h as u64, n, 1) / crate::farm::memory::GIB;
+                return Err(input(format!(
+                    "--resolution {w}x{h}: at most {MAX_SIDE} pixels per side (its film at {n} \
+                     wavelength(s) would need about {need:.1} GiB of memory; {})",
+                    crate::farm::memory::available().describe()
+                )));
+            }
             scene.camera = scene.camera.clone().with_resolution(w, h);
         }
         if let Some(d) = self.max_depth {
@@ -336,20 +354,35 @@ impl SceneOverrides {
     }
 }
 
+/// The largest image side (scene files' `camera.resolution` has the same
+/// bound).
+pub const MAX_SIDE: u32 = 65536;
+
+/// Refuses a `--wavelengths` count above the scene format's bound before
+/// the set is built (its list alone could exhaust memory).
+fn check_wavelength_count(spec: &str) -> Result<(), CliError> {
+    let max = crate::scene::file::MAX_WAVELENGTHS;
+    match spec.trim().parse::<u128>() {
+        Ok(n) if n > max as u128 => Err(CliError::Input(format!(
+            "--wavelengths {n}: at most {max} wavelengths (0.04 nm apart; a 256x256 film of \
+             {n} would need about {:.1} GiB of memory)",
+            film_bytes(256 * 256, n.min(usize::MAX as u128) as usize, 1) / crate::farm::memory::GIB
+        ))),
+        _ => Ok(()),
+    }
+}
+
 fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s
         .split_once(['x', 'X'])
         .ok_or_else(|| format!("`{s}` is not WIDTHxHEIGHT"))?;
-    let p = |v: &str| {
-        v.trim()
-            .parse::<u32>()
-            .ok()
-            .filter(|&v| (1..=65536).contains(&v))
-    };
+    let p = |v: &str| v.trim().parse::<u32>().ok().filter(|&v| v >= 1);
+    // The side limit is checked with the scene (SceneOverrides), where
+    // the message can say what the film would cost.
     match (p(w), p(h)) {
         (Some(w), Some(h)) => Ok((w, h)),
         _ => Err(format!(
-            "`{s}`: width and height must be whole numbers from 1 to 65536"
+            "`{s}`: width and height must be whole numbers from 1 to {MAX_SIDE}"
         )),
     }
 }
@@ -512,15 +545,61 @@ pub fn options_for(
 /// Refuses rendered values that are not finite (no NaN pixel is ever
 /// written): an internal error, never the input's fault.
 pub(crate) fn check_finite<'a>(values: impl IntoIterator<Item = &'a f32>) -> Result<(), CliError> {
-    if values.into_iter().any(|v| !v.is_finite()) {
-        return Err(CliError::Failed(
-            "internal error: the render produced non-finite values".into(),
-        ));
+    match crate::farm::non_finite(values) {
+        Some((first, count)) => Err(CliError::Failed(format!(
+            "internal error: the render produced {count} non-finite value(s), the first at raw \
+             value {first}"
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// The most worker threads `--threads` may ask for: 8 per core this machine
+/// has, and at least 64. More only contend for the cores (and thousands of
+/// them starve the machine and delay a SIGTERM's checkpoint while they
+/// start).
+pub fn max_threads() -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    (8 * cores).max(64)
+}
+
+/// Refuses a `--threads` count above [`max_threads`] (exit status 2); 0
+/// means one per core.
+pub fn check_threads(threads: usize) -> Result<(), CliError> {
+    let max = max_threads();
+    if threads > max {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        return Err(CliError::Input(format!(
+            "--threads {threads}: at most {max} on this machine ({cores} cores; 0 or no \
+             --threads means one per core)"
+        )));
     }
     Ok(())
 }
 
+/// Bytes a render holds at its peak, about: its f32 raw values (pixels ×
+/// wavelengths × 4 Stokes × stored nodes) four times over (the tiles, the
+/// assembled part or film, the image handed to the writer, developed
+/// modes). A 500x500 render of 21 wavelengths peaked at 289 MiB resident
+/// (PNG), 319 MiB (raw EXR) and 371 MiB (colour and Stokes); this gives
+/// 320 MiB.
+pub fn film_bytes(pixels: u64, lambdas: usize, nodes: usize) -> f64 {
+    pixels as f64 * lambdas as f64 * 4.0 * nodes.max(1) as f64 * 4.0 * 4.0
+}
+
+/// Refuses a render whose film cannot fit in the available memory, naming
+/// `what` asks for it (the flags or scene fields of size and wavelengths).
+pub fn check_film_memory(
+    pixels: u64,
+    lambdas: usize,
+    nodes: usize,
+    what: &str,
+) -> Result<(), CliError> {
+    crate::farm::memory::check(film_bytes(pixels, lambdas, nodes), what).map_err(CliError::Input)
+}
+
 pub(crate) fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, CliError> {
+    check_threads(threads)?;
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -538,6 +617,14 @@ pub fn render_film(
     progress: bool,
     accel: AccelKind,
 ) -> Result<Rendered, CliError> {
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let n = lambdas_for(scene, modes, mono_nm).len();
+    check_film_memory(
+        w as u64 * h as u64,
+        n,
+        1,
+        &format!("a {w}x{h} render of {n} wavelength(s)"),
+    )?;
     let pool = thread_pool(threads)?;
     let t0 = Instant::now();
     let accel = build_accel_kind(scene, pool.current_num_threads(), accel, None)?;
@@ -595,6 +682,35 @@ pub fn build_accel_kind(
         )),
         _ => crate::accel::build(kind, &meshes, threads).map_err(fail),
     }
+}
+
+/// Says which flags or scene fields set a render's size and wavelengths,
+/// for a memory refusal.
+fn film_what(
+    scene: &Scene,
+    file: Option<&Path>,
+    o: &SceneOverrides,
+    region: Rect,
+    modes: &[OutputMode],
+    mono_nm: f64,
+) -> String {
+    let file = file.map_or("(default scene)".into(), |p| p.display().to_string());
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let size = match o.resolution {
+        Some(_) => format!("--resolution {w}x{h}"),
+        None => format!("{file}: camera.resolution [{w}, {h}]"),
+    };
+    let n = lambdas_for(scene, modes, mono_nm).len();
+    let lambdas = match &o.wavelengths {
+        Some(s) => format!("--wavelengths {s} ({n} traced)"),
+        None => format!("{file}: render.wavelengths ({n} traced)"),
+    };
+    let part = if region == Rect::full(w, h) {
+        String::new()
+    } else {
+        format!(", region {region}")
+    };
+    format!("{size}{part} with {lambdas}")
 }
 
 /// Refuses an output whose directory does not exist or that names a
@@ -735,6 +851,9 @@ pub fn check_wavelength(nm: f64) -> Result<(), CliError> {
 pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let input = CliError::Input;
     let started = Instant::now();
+    if let Some(t) = args.threads {
+        check_threads(t)?;
+    }
     let mut scene = load_scene(args.scene.as_deref())?;
     let block = args.overrides.apply_with_block(&mut scene)?;
     check_wavelength(args.wavelength)?;
@@ -768,6 +887,19 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     };
     let samples = block.unwrap_or(SampleRange::all(scene.samples));
     let spec = PartSpec { region, samples };
+    check_film_memory(
+        spec.region.area() as u64,
+        lambdas_for(&scene, &modes, args.wavelength).len(),
+        spec.samples.nodes().len(),
+        &film_what(
+            &scene,
+            args.scene.as_deref(),
+            &args.overrides,
+            spec.region,
+            &modes,
+            args.wavelength,
+        ),
+    )?;
     let raw = farm.raw || farm.region.is_some() || farm.tile.is_some() || block.is_some();
     // Refuse to start a long render whose output cannot be written.
     if raw {

@@ -75,6 +75,16 @@ pub fn merge(parts: &[LoadedPart]) -> Result<Merged, MergeError> {
     ys.sort_unstable();
     ys.dedup();
 
+    // Every part was read whole, but the whole image can be far larger
+    // than its parts claim to cover.
+    super::memory::check(
+        w as f64 * h as f64 * nch as f64 * 4.0 * 2.0,
+        &format!("the merged {w}x{h} image of {nch} channels"),
+    )
+    .map_err(|message| MergeError::TooLarge {
+        path: first.path.clone(),
+        message,
+    })?;
     let mut out = vec![0.0f32; w as usize * h as usize * nch];
     let mut acc = Accumulator::new(nch);
     for yc in ys.windows(2) {
@@ -144,6 +154,16 @@ pub fn merge(parts: &[LoadedPart]) -> Result<Merged, MergeError> {
                 }
             }
         }
+    }
+    // Finite parts can still add up past float32's largest value.
+    if let Some((first, count)) = super::non_finite(&out) {
+        let pix = first / nch;
+        return Err(MergeError::Overflow {
+            x: (pix % w as usize) as u32,
+            y: (pix / w as usize) as u32,
+            channel: channels[first % nch].clone(),
+            count,
+        });
     }
     Ok(Merged {
         width: w,

@@ -7,6 +7,7 @@
 //! - [`part`]: the render's identity and raw EXR parts.
 //! - [`exr`]: an EXR header reader (sample types, compression, windows).
 //! - [`merge`]: parts into the whole, with named errors.
+//! - [`memory`]: the machine's available memory, checked before large allocations.
 //! - [`checkpoint`]: finished tiles saved on a signal, resumed later.
 //! - [`progress`]: plain and OpenJD progress lines on stdout.
 //! - [`plan`]: Slurm and OpenJD job scripts.
@@ -14,6 +15,7 @@
 pub mod blocks;
 pub mod checkpoint;
 pub mod exr;
+pub mod memory;
 pub mod merge;
 pub mod part;
 pub mod plan;
@@ -67,6 +69,30 @@ pub enum MergeError {
         region: String,
         samples: String,
     },
+    #[error(
+        "non-finite: {}: {count} value(s) are NaN or infinite, the first at pixel x,y = {x},{y} \
+         channel {channel}; raw sums are finite (render this part again)",
+        path.display()
+    )]
+    NonFinite {
+        path: PathBuf,
+        x: u32,
+        y: u32,
+        channel: String,
+        count: usize,
+    },
+    #[error(
+        "overflow: the parts' sums at pixel x,y = {x},{y} channel {channel} exceed float32 \
+         ({count} value(s) in all)"
+    )]
+    Overflow {
+        x: u32,
+        y: u32,
+        channel: String,
+        count: usize,
+    },
+    #[error("too-large: {}: {message}", path.display())]
+    TooLarge { path: PathBuf, message: String },
     #[error("missing: no part holds samples {samples} of pixels x,x,y,y = {region}")]
     Missing { region: String, samples: String },
     #[error(
@@ -81,6 +107,20 @@ pub enum MergeError {
     },
 }
 
+/// Where the non-finite values (NaN, ±∞) of `values` are: the index of
+/// the first and how many there are, or `None` when all are finite. The
+/// one check of every path that writes pixels (`spar render`, `merge`,
+/// `develop`).
+pub fn non_finite<'a>(values: impl IntoIterator<Item = &'a f32>) -> Option<(usize, usize)> {
+    let mut found = None;
+    for (i, v) in values.into_iter().enumerate() {
+        if !v.is_finite() {
+            found.get_or_insert((i, 0)).1 += 1;
+        }
+    }
+    found
+}
+
 impl MergeError {
     /// The error's name, as its message starts.
     pub fn name(&self) -> &'static str {
@@ -92,6 +132,9 @@ impl MergeError {
             MergeError::Lossy { .. } => "lossy",
             MergeError::Mismatch { .. } => "mismatch",
             MergeError::Overlap { .. } => "overlap",
+            MergeError::NonFinite { .. } => "non-finite",
+            MergeError::Overflow { .. } => "overflow",
+            MergeError::TooLarge { .. } => "too-large",
             MergeError::Missing { .. } => "missing",
             MergeError::Incomplete { .. } => "incomplete",
         }

@@ -361,6 +361,23 @@ pub fn read_part(path: &Path) -> Result<LoadedPart, MergeError> {
             method: header.compression.name(),
         });
     }
+    // The decoder allocates what the header's data window says: refuse a
+    // window that cannot fit before decoding (a damaged or hostile header).
+    let dw = header.data_window;
+    let (dw_w, dw_h) = (
+        (dw.x_max as i64 - dw.x_min as i64 + 1).max(0) as f64,
+        (dw.y_max as i64 - dw.y_min as i64 + 1).max(0) as f64,
+    );
+    // Decoded samples as f32, and the copy read_part makes of them.
+    let need = dw_w * dw_h * header.channels.len().max(1) as f64 * 4.0 * 2.0;
+    super::memory::check(
+        need,
+        &format!(
+            "its data window of {dw_w}x{dw_h} pixels of {} channels",
+            header.channels.len()
+        ),
+    )
+    .map_err(|message| MergeError::TooLarge { path: p(), message })?;
     let image = crate::image::read(path).map_err(|e| MergeError::Unreadable {
         path: p(),
         message: e.to_string(),
@@ -400,7 +417,6 @@ pub fn read_part(path: &Path) -> Result<LoadedPart, MergeError> {
             region.height()
         )));
     }
-    let dw = header.data_window;
     if (dw.x_min, dw.y_min) != (0, 0)
         && (dw.x_min, dw.y_min) != (region.x0 as i32, region.y0 as i32)
     {
@@ -431,9 +447,19 @@ pub fn read_part(path: &Path) -> Result<LoadedPart, MergeError> {
     }
     let several = nodes.len() > 1;
     let npix = region.area();
+    let stride = image.channels().len();
+    if let Some((first, count)) = super::non_finite(image.data()) {
+        let pix = first / stride.max(1);
+        return Err(MergeError::NonFinite {
+            path: p(),
+            x: region.x0 + (pix % region.width() as usize) as u32,
+            y: region.y0 + (pix / region.width() as usize) as u32,
+            channel: image.channels()[first % stride].clone(),
+            count,
+        });
+    }
     let nch = channels.len();
     let mut data = vec![0.0f32; nodes.len() * npix * nch];
-    let stride = image.channels().len();
     if stride != nch * nodes.len() {
         return Err(not_part(format!(
             "{stride} channels for {} node(s) of {nch} channel(s)",

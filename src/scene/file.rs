@@ -40,11 +40,128 @@
 //! radiance = 0.0
 //! ```
 
+use serde::de::{self, Deserializer, IgnoredAny, SeqAccess, Visitor};
 use serde::Deserialize;
 use std::collections::BTreeMap;
+use std::marker::PhantomData;
 use toml::Spanned;
 
 pub type V3 = [f64; 3];
+
+/// The most wavelengths a render may trace (0.04 nm apart over 380–780
+/// nm; colour cannot change past far fewer): a bound before any list is
+/// built, which memory checks then refine.
+pub const MAX_WAVELENGTHS: u32 = 10_000;
+
+/// The name a fixed-length field has in scene files, for its errors.
+pub trait FieldName {
+    const NAME: &'static str;
+}
+
+macro_rules! field_names {
+    ($($t:ident = $n:literal,)*) => {
+        $(
+            #[doc = concat!("`", $n, "` (for its errors).")]
+            #[derive(Debug, Clone, Copy)]
+            pub struct $t;
+            impl FieldName for $t {
+                const NAME: &'static str = $n;
+            }
+        )*
+    };
+}
+
+field_names! {
+    Eye = "camera.eye",
+    LookAt = "camera.look_at",
+    Up = "camera.up",
+    Resolution = "camera.resolution",
+    OpticAxis = "object.optic_axis",
+    Scale = "object.transform.scale",
+    Rotate = "object.transform.rotate",
+    Translate = "object.transform.translate",
+    Corners = "light.corners",
+    Corner = "light.corners (one corner)",
+    Linear = "light.polarization.linear",
+    PlateAxis = "light.polarization.calcite_plate.axis",
+}
+
+/// An array of exactly `N` values, for the field `F`. serde's own arrays
+/// take the first `N` values of a longer TOML array and drop the rest
+/// (`eye = [x, y, z, w]` read as `[x, y, z]`); this one refuses it,
+/// naming the field and how many values were given.
+#[derive(Debug, Clone)]
+pub struct Exact<T, const N: usize, F>(pub [T; N], PhantomData<F>);
+
+impl<'de, T: Deserialize<'de>, const N: usize, F: FieldName> Deserialize<'de> for Exact<T, N, F> {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V<T, const N: usize, F>(PhantomData<(T, F)>);
+        impl<'de, T: Deserialize<'de>, const N: usize, F: FieldName> Visitor<'de> for V<T, N, F> {
+            type Value = Exact<T, N, F>;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                write!(f, "an array of exactly {N} values ({})", F::NAME)
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+                let mut values = Vec::with_capacity(N);
+                while values.len() < N {
+                    match seq.next_element()? {
+                        Some(v) => values.push(v),
+                        None => break,
+                    }
+                }
+                let mut len = values.len();
+                while seq.next_element::<IgnoredAny>()?.is_some() {
+                    len += 1;
+                }
+                match values.try_into() {
+                    Ok(a) if len == N => Ok(Exact(a, PhantomData)),
+                    _ => Err(de::Error::custom(format!(
+                        "{}: {len} value(s) given, it takes exactly {N}",
+                        F::NAME
+                    ))),
+                }
+            }
+        }
+        d.deserialize_seq(V(PhantomData))
+    }
+}
+
+/// `deserialize_with` for `[T; N]` fields: exactly `N` values.
+fn exact<'de, D: Deserializer<'de>, T: Deserialize<'de>, const N: usize, F: FieldName>(
+    d: D,
+) -> Result<[T; N], D::Error> {
+    Exact::<T, N, F>::deserialize(d).map(|e| e.0)
+}
+
+/// `deserialize_with` for `Option<[T; N]>` fields.
+fn opt_exact<'de, D: Deserializer<'de>, T: Deserialize<'de>, const N: usize, F: FieldName>(
+    d: D,
+) -> Result<Option<[T; N]>, D::Error> {
+    Option::<Exact<T, N, F>>::deserialize(d).map(|e| e.map(|e| e.0))
+}
+
+/// `deserialize_with` for `Spanned<[T; N]>` fields.
+fn spanned<'de, D: Deserializer<'de>, T: Deserialize<'de>, const N: usize, F: FieldName>(
+    d: D,
+) -> Result<Spanned<[T; N]>, D::Error> {
+    let s = Spanned::<Exact<T, N, F>>::deserialize(d)?;
+    Ok(Spanned::new(s.span(), s.into_inner().0))
+}
+
+/// `deserialize_with` for `Option<Spanned<[T; N]>>` fields.
+fn opt_spanned<'de, D: Deserializer<'de>, T: Deserialize<'de>, const N: usize, F: FieldName>(
+    d: D,
+) -> Result<Option<Spanned<[T; N]>>, D::Error> {
+    let s = Option::<Spanned<Exact<T, N, F>>>::deserialize(d)?;
+    Ok(s.map(|s| Spanned::new(s.span(), s.into_inner().0)))
+}
+
+/// `deserialize_with` for a light's four corners of three coordinates.
+fn corners<'de, D: Deserializer<'de>>(d: D) -> Result<Spanned<[V3; 4]>, D::Error> {
+    let s = Spanned::<Exact<Exact<f64, 3, Corner>, 4, Corners>>::deserialize(d)?;
+    let span = s.span();
+    Ok(Spanned::new(span, s.into_inner().0.map(|c| c.0)))
+}
 
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
@@ -72,22 +189,72 @@ fn default_samples() -> Spanned<u32> {
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
 pub struct CameraDef {
+    #[serde(deserialize_with = "spanned::<_, _, 3, Eye>")]
     pub eye: Spanned<V3>,
+    #[serde(deserialize_with = "spanned::<_, _, 3, LookAt>")]
     pub look_at: Spanned<V3>,
-    #[serde(default = "default_up")]
+    #[serde(default = "default_up", deserialize_with = "spanned::<_, _, 3, Up>")]
     pub up: Spanned<V3>,
     /// Vertical field of view, degrees.
     pub fov: Spanned<f64>,
+    #[serde(deserialize_with = "spanned::<_, _, 2, Resolution>")]
     pub resolution: Spanned<[u32; 2]>,
     #[serde(default = "default_samples")]
     pub samples: Spanned<u32>,
 }
 
-#[derive(Deserialize, Debug, Clone)]
-#[serde(untagged)]
+/// `wavelengths = 21` (a count over 380–780 nm) or a list in nm; at most
+/// [`MAX_WAVELENGTHS`] either way.
+#[derive(Debug, Clone)]
 pub enum WavelengthsDef {
     Count(u32),
     List(Vec<f64>),
+}
+
+impl<'de> Deserialize<'de> for WavelengthsDef {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        fn too_many<E: de::Error>(n: impl std::fmt::Display) -> E {
+            E::custom(format!(
+                "{n} wavelengths: at most {MAX_WAVELENGTHS} (0.04 nm apart; more cannot \
+                 change a colour, and each costs film memory)"
+            ))
+        }
+        impl<'de> Visitor<'de> for V {
+            type Value = WavelengthsDef;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                write!(
+                    f,
+                    "a count of wavelengths (21) or a list of wavelengths in nm ([450, 550, 650])"
+                )
+            }
+            fn visit_i64<E: de::Error>(self, n: i64) -> Result<Self::Value, E> {
+                if n < 0 {
+                    return Err(E::custom(format!(
+                        "{n}: a count of wavelengths is at least 1"
+                    )));
+                }
+                self.visit_u64(n as u64)
+            }
+            fn visit_u64<E: de::Error>(self, n: u64) -> Result<Self::Value, E> {
+                if n > MAX_WAVELENGTHS as u64 {
+                    return Err(too_many(n));
+                }
+                Ok(WavelengthsDef::Count(n as u32))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+                let mut list = Vec::new();
+                while let Some(v) = seq.next_element::<f64>()? {
+                    list.push(v);
+                    if list.len() > MAX_WAVELENGTHS as usize {
+                        return Err(too_many(format!("more than {MAX_WAVELENGTHS}")));
+                    }
+                }
+                Ok(WavelengthsDef::List(list))
+            }
+        }
+        d.deserialize_any(V)
+    }
 }
 
 #[derive(Deserialize, Debug, Default)]
@@ -166,15 +333,42 @@ pub struct ObjectDef {
     /// A generated standard cut: `{ name = "round-brilliant", table = 0.53, … }`.
     pub cut: Option<Spanned<toml::Value>>,
     pub medium: Spanned<String>,
+    #[serde(default, deserialize_with = "opt_spanned::<_, _, 3, OpticAxis>")]
     pub optic_axis: Option<Spanned<V3>>,
     pub transform: Option<Spanned<TransformDef>>,
 }
 
-#[derive(Deserialize, Debug, Clone)]
-#[serde(untagged)]
+/// `scale = 2.0` or `scale = [x, y, z]`.
+#[derive(Debug, Clone)]
 pub enum ScaleDef {
     Uniform(f64),
     PerAxis(V3),
+}
+
+impl<'de> Deserialize<'de> for ScaleDef {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = ScaleDef;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number or [x, y, z] (object.transform.scale)")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<ScaleDef, E> {
+                Ok(ScaleDef::Uniform(v))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<ScaleDef, E> {
+                Ok(ScaleDef::Uniform(v as f64))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<ScaleDef, E> {
+                Ok(ScaleDef::Uniform(v as f64))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<ScaleDef, A::Error> {
+                Exact::<f64, 3, Scale>::deserialize(de::value::SeqAccessDeserializer::new(seq))
+                    .map(|e| ScaleDef::PerAxis(e.0))
+            }
+        }
+        d.deserialize_any(V)
+    }
 }
 
 /// Applied as scale, then rotation about x, y, z (degrees, in that order),
@@ -183,15 +377,40 @@ pub enum ScaleDef {
 #[serde(deny_unknown_fields)]
 pub struct TransformDef {
     pub scale: Option<ScaleDef>,
+    #[serde(default, deserialize_with = "opt_exact::<_, _, 3, Rotate>")]
     pub rotate: Option<V3>,
+    #[serde(default, deserialize_with = "opt_exact::<_, _, 3, Translate>")]
     pub translate: Option<V3>,
 }
 
-#[derive(Deserialize, Debug, Clone)]
-#[serde(untagged)]
+/// `polarization = "unpolarized"` or a filter table.
+#[derive(Debug, Clone)]
 pub enum PolarizationDef {
     Named(String),
     Filter(FilterDef),
+}
+
+impl<'de> Deserialize<'de> for PolarizationDef {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = PolarizationDef;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str(
+                    "\"unpolarized\", { linear = [x, y, z] } or { calcite_plate = { keep = \"o\", \
+                     axis = [x, y, z] } } (light.polarization)",
+                )
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<PolarizationDef, E> {
+                Ok(PolarizationDef::Named(v.to_string()))
+            }
+            fn visit_map<A: de::MapAccess<'de>>(self, map: A) -> Result<PolarizationDef, A::Error> {
+                FilterDef::deserialize(de::value::MapAccessDeserializer::new(map))
+                    .map(PolarizationDef::Filter)
+            }
+        }
+        d.deserialize_any(V)
+    }
 }
 
 #[derive(Deserialize, Debug, Clone)]
@@ -199,7 +418,7 @@ pub enum PolarizationDef {
 pub enum FilterDef {
     /// An ideal linear polarizer whose transmission axis is this direction
     /// (projected into the light's plane).
-    Linear(V3),
+    Linear(#[serde(deserialize_with = "exact::<_, _, 3, Linear>")] V3),
     /// A virtual calcite plate of this optic axis that keeps one wave.
     CalcitePlate(PlateDef),
 }
@@ -208,6 +427,7 @@ pub enum FilterDef {
 #[serde(deny_unknown_fields)]
 pub struct PlateDef {
     pub keep: String,
+    #[serde(deserialize_with = "exact::<_, _, 3, PlateAxis>")]
     pub axis: V3,
 }
 
@@ -218,6 +438,7 @@ fn default_radiance() -> Spanned<f64> {
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
 pub struct LightDef {
+    #[serde(deserialize_with = "corners")]
     pub corners: Spanned<[V3; 4]>,
     #[serde(default = "default_radiance")]
     pub radiance: Spanned<f64>,
