@@ -195,9 +195,12 @@ pub struct SceneOverrides {
     /// Random seed (overrides the scene).
     #[arg(long)]
     pub seed: Option<u64>,
-    /// A preset of depth, pruning, wavelengths, samples and strategy chosen
-    /// from the measured speed-against-error front (docs/speed-vs-error.md):
-    /// draft, default or reference. Other flags given with it win.
+    /// A preset of depth, pruning and approximations (branching,
+    /// polarization model, spectral sampling, dispersion) chosen from the
+    /// measured speed-against-error front (docs/speed-vs-error.md): draft
+    /// (dispersion off, pruning 1e-3), default (the exact tree, pruning
+    /// 1e-4) or reference (pruning 1e-6), all at depth 30. Wavelengths and
+    /// samples are left as they are. Other flags given with it win.
     #[arg(long, value_parser = clap::value_parser!(Quality))]
     pub quality: Option<Quality>,
     /// Branch strategy: full (every feeder), stochastic (one feeder per
