@@ -506,7 +506,11 @@ impl AscDesign {
                 message,
             }
         })?;
-        let mesh = polytope.to_mesh(|i| Some(facets[i].1.clone()));
+        let mut mesh = polytope.to_mesh(|i| Some(facets[i].1.clone()));
+        // Messages about a facet name the tier line that cuts it.
+        for (facet, face) in mesh.facets.iter_mut().zip(&polytope.faces) {
+            facet.line = Some(facets[face.plane].2);
+        }
         let mut notes: Vec<String> = self
             .warnings
             .iter()
