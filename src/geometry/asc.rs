@@ -516,7 +516,13 @@ impl AscDesign {
             .iter()
             .map(|(line, m)| format!("{}:{line}: {m}", self.file))
             .collect();
-        notes.extend(polytope.fate_notes(describe));
+        // Each note names the file, as the reader's warnings do.
+        notes.extend(
+            polytope
+                .fate_notes(describe)
+                .into_iter()
+                .map(|n| format!("{}: {n}", self.file)),
+        );
         Ok(Stone {
             mesh,
             notes,

@@ -395,15 +395,17 @@ fn finish(state: Reader, file: &str) -> Result<ObjMesh, ObjError> {
         positions,
         numbers,
         lines,
+        file_to_mesh,
         faces,
         ..
     } = state;
     if faces.is_empty() {
         return Err(invalid(format!(
             "no faces (no `f` lines; {} vertices read)",
-            numbers.len()
+            file_to_mesh.len()
         )));
     }
+    drop(file_to_mesh);
     check_extent(&positions, &numbers, &lines, &faces, file)?;
 
     let (lo, hi) = positions.iter().fold(
@@ -548,6 +550,12 @@ fn close_t_junctions(
         }
     }
     let open = |a: u32, b: u32| !directed.contains(&(b, a));
+    let open_edges = directed.iter().filter(|&&(a, b)| open(a, b)).count();
+    if open_edges == 0 || open_edges.saturating_mul(candidates.len()) > 50_000_000 {
+        // Closed already, or too many to pair up (the closure check will
+        // name an open edge).
+        return;
+    }
     let mut candidates: Vec<u32> = candidates.iter().copied().collect();
     candidates.sort_unstable();
     for face in faces.iter_mut() {
