@@ -15,10 +15,13 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// The shipped gem meshes: (file name, bytes).
-fn seeds() -> Vec<(String, Vec<u8>)> {
+/// A mesh file: its name and bytes.
+type Case = (String, Vec<u8>);
+
+/// The shipped gem meshes.
+fn seeds() -> Vec<Case> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/gems");
-    let mut out: Vec<(String, Vec<u8>)> = std::fs::read_dir(&dir)
+    let mut out: Vec<Case> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().path())
         .filter(|p| matches!(p.extension().and_then(|e| e.to_str()), Some("obj" | "asc")))
@@ -264,7 +267,7 @@ fn mutated_gems_through_spar_render_exit_0_or_2_and_write_nothing_on_2() {
     let seeds = seeds();
     let mut rng = Pcg64::seed_from_u64(1515);
     // Ten cases the loader refuses and ten it accepts.
-    let (mut bad, mut good): (Vec<(String, Vec<u8>)>, Vec<(String, Vec<u8>)>) = (vec![], vec![]);
+    let (mut bad, mut good): (Vec<Case>, Vec<Case>) = (vec![], vec![]);
     let mut case = 0;
     while bad.len() < 10 || good.len() < 10 {
         let (name, base) = &seeds[case % seeds.len()];
