@@ -157,7 +157,13 @@ fn facets_that_do_not_survive_are_reported() {
         stone.notes[1].contains("same plane as facet 2@92"),
         "{}",
         stone.notes[1]
-    );
+    ); // Like the reader's warnings, the notes name the file (and the line).
+    for n in &stone.notes {
+        assert!(
+            n.starts_with("t.asc: facet ") && n.contains("(line "),
+            "{n}"
+        );
+    }
 }
 
 /// Parses and builds; only checks that nothing panics and that any stone

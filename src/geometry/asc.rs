@@ -506,13 +506,23 @@ impl AscDesign {
                 message,
             }
         })?;
-        let mesh = polytope.to_mesh(|i| Some(facets[i].1.clone()));
+        let mut mesh = polytope.to_mesh(|i| Some(facets[i].1.clone()));
+        // Messages about a facet name the tier line that cuts it.
+        for (facet, face) in mesh.facets.iter_mut().zip(&polytope.faces) {
+            facet.line = Some(facets[face.plane].2);
+        }
         let mut notes: Vec<String> = self
             .warnings
             .iter()
             .map(|(line, m)| format!("{}:{line}: {m}", self.file))
             .collect();
-        notes.extend(polytope.fate_notes(describe));
+        // Each note names the file, as the reader's warnings do.
+        notes.extend(
+            polytope
+                .fate_notes(describe)
+                .into_iter()
+                .map(|n| format!("{}: {n}", self.file)),
+        );
         Ok(Stone {
             mesh,
             notes,

@@ -21,7 +21,7 @@
 //! unwelded polyhedron is returned. Planes that end up without a facet are
 //! reported with the reason ([`PlaneFate`]).
 
-use super::mesh::{Mesh, TopologyError};
+use super::mesh::{Mesh, Polygon, TopologyError};
 use glam::DVec3;
 use std::collections::HashMap;
 
@@ -708,9 +708,14 @@ impl Polytope {
         let polygons = self
             .faces
             .iter()
-            .map(|f| (f.vertices.clone(), name(f.plane)))
+            .map(|f| Polygon {
+                vertices: f.vertices.clone(),
+                name: name(f.plane),
+                line: None,
+            })
             .collect();
-        let mut mesh = match Mesh::from_polygons(self.positions.clone(), polygons) {
+        // The faces are convex, so a fan from the first vertex is exact.
+        let mut mesh = match Mesh::from_convex_polygons(self.positions.clone(), polygons) {
             Ok(mesh) => mesh,
             // Every face has three distinct vertices on its plane, so
             // Newell's area vector is never zero; keep a mesh regardless.
@@ -719,6 +724,7 @@ impl Polytope {
                 facets: Vec::new(),
                 triangles: Vec::new(),
                 triangle_facet: Vec::new(),
+                vertex_numbers: Vec::new(),
             },
         };
         for (facet, face) in mesh.facets.iter_mut().zip(&self.faces) {

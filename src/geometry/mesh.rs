@@ -4,12 +4,15 @@
 //! A real cut has near-meeting facets whose tiny triangles would get normals
 //! off by 1e-4 rad if each triangle's normal came from its own three
 //! vertices; a facet's normal comes from all of its vertices (Newell's
-//! method), once, and every triangle of the facet uses it.
+//! method), once, and every triangle of the facet uses it. Facets are split
+//! into triangles by ear clipping in the facet's plane (the `earcut` crate),
+//! so concave facets are covered exactly; a facet whose outline crosses or
+//! touches itself is refused.
 
-use glam::{DAffine3, DVec3};
+use glam::{DAffine3, DVec2, DVec3};
 use std::collections::HashMap;
 
-/// One flat facet: a convex or concave polygon, fanned into triangles.
+/// One flat facet: a convex or concave polygon, split into triangles.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Facet {
     /// Unit normal, pointing to the side the vertex order winds
@@ -22,6 +25,9 @@ pub struct Facet {
     pub vertices: Vec<u32>,
     /// Group or object name from the file, if any.
     pub name: Option<String>,
+    /// The 1-based line of the file that defines the facet, if it came from
+    /// a file (the `f` line of an OBJ face, the tier line of a `.asc` facet).
+    pub line: Option<usize>,
 }
 
 /// A polygon mesh with its triangulation.
@@ -33,47 +39,148 @@ pub struct Mesh {
     /// `triangle_facet[i]`.
     pub triangles: Vec<[u32; 3]>,
     pub triangle_facet: Vec<u32>,
+    /// The number the source file gives each vertex (an OBJ file's 1-based
+    /// `v` number), for messages; empty when the vertices are not numbered
+    /// by a file (then vertex `i` is called `i + 1`).
+    pub vertex_numbers: Vec<u32>,
 }
 
-/// Why a mesh is not a closed, consistently oriented surface.
+/// A polygon to make a facet of: vertex indices (at least three), and where
+/// it came from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Polygon {
+    pub vertices: Vec<u32>,
+    pub name: Option<String>,
+    pub line: Option<usize>,
+}
+
+/// Why a mesh is not a closed, consistently oriented surface, or why a
+/// facet cannot be made. Vertices and facets are named as the source file
+/// names them (see [`Mesh::vertex_label`] and [`Mesh::facet_label`]).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum TopologyError {
-    #[error("open edge between vertices {a} and {b} (1-based, as in the file) at {pa} – {pb}: only one facet uses it, so the mesh is not closed")]
-    OpenEdge {
-        a: u32,
-        b: u32,
-        pa: DVec3,
-        pb: DVec3,
-    },
-    #[error("edge between vertices {a} and {b} (1-based) at {pa} – {pb} is used in the same direction by two facets ({f1} and {f2}): the facets are not consistently oriented")]
+    #[error("open edge between {edge}: only {facet} uses it, so the mesh is not closed")]
+    OpenEdge { edge: String, facet: String },
+    #[error("edge between {edge} is used in the same direction by {f1} and {f2}: the facets are not consistently oriented")]
     Inconsistent {
-        a: u32,
-        b: u32,
-        pa: DVec3,
-        pb: DVec3,
-        f1: usize,
-        f2: usize,
+        edge: String,
+        f1: String,
+        f2: String,
     },
-    #[error("edge between vertices {a} and {b} (1-based) is shared by {count} facets: the mesh is not a manifold")]
-    NonManifold { a: u32, b: u32, count: usize },
-    #[error("facet {facet} is degenerate (its vertices do not span a plane)")]
-    DegenerateFacet { facet: usize },
+    #[error(
+        "edge between {edge} is shared by {count} facets ({facets}): the mesh is not a manifold"
+    )]
+    NonManifold {
+        edge: String,
+        count: usize,
+        facets: String,
+    },
+    #[error("{facet} is degenerate (its vertices do not span a plane)")]
+    DegenerateFacet { facet: String },
+    #[error("{facet} {why}, so it cannot be split into triangles")]
+    SelfIntersecting { facet: String, why: String },
     #[error("the mesh encloses negative volume ({volume:.3e}): its facets wind clockwise seen from outside")]
     InsideOut { volume: f64 },
+}
+
+/// `facet 12 (line 40, crown)`: 1-based index, then the line and the name
+/// when known.
+pub fn facet_label(index: usize, line: Option<usize>, name: Option<&str>) -> String {
+    match (line, name) {
+        (Some(l), Some(n)) => format!("facet {} (line {l}, {n})", index + 1),
+        (Some(l), None) => format!("facet {} (line {l})", index + 1),
+        (None, Some(n)) => format!("facet {} ({n})", index + 1),
+        (None, None) => format!("facet {}", index + 1),
+    }
+}
+
+/// How far a polygon is from being a line segment: the largest distance of
+/// a vertex from the line through its first vertex and the vertex farthest
+/// from it (0 for coincident or collinear vertices). Within a factor of two
+/// of the polygon's narrowest width.
+pub fn polygon_width(positions: &[DVec3], vertices: &[u32]) -> f64 {
+    let p = |v: u32| positions[v as usize];
+    let Some(&first) = vertices.first() else {
+        return 0.0;
+    };
+    let a = p(first);
+    let far = vertices
+        .iter()
+        .map(|&v| p(v))
+        .max_by(|x, y| x.distance_squared(a).total_cmp(&y.distance_squared(a)))
+        .unwrap_or(a);
+    let axis = far - a;
+    let len = axis.length();
+    if !(len > 0.0) {
+        return 0.0;
+    }
+    let dir = axis / len;
+    vertices
+        .iter()
+        .map(|&v| {
+            let d = p(v) - a;
+            (d - dir * d.dot(dir)).length()
+        })
+        .fold(0.0, f64::max)
 }
 
 impl Mesh {
     /// Builds a mesh from polygons (each a list of vertex indices, at least
     /// three). Facet normals come from Newell's method over all vertices of
-    /// the polygon; polygons are fanned from their first vertex.
+    /// the polygon; polygons are split into triangles in their plane.
     pub fn from_polygons(
         positions: Vec<DVec3>,
         polygons: Vec<(Vec<u32>, Option<String>)>,
     ) -> Result<Mesh, TopologyError> {
+        let polygons = polygons
+            .into_iter()
+            .map(|(vertices, name)| Polygon {
+                vertices,
+                name,
+                line: None,
+            })
+            .collect();
+        Mesh::build(positions, Vec::new(), polygons, Split::EarClip)
+    }
+
+    /// [`Mesh::from_polygons`] for polygons from a file: `vertex_numbers`
+    /// gives each vertex the number the file gives it (or is empty), and
+    /// each polygon its line.
+    pub fn from_file_polygons(
+        positions: Vec<DVec3>,
+        vertex_numbers: Vec<u32>,
+        polygons: Vec<Polygon>,
+    ) -> Result<Mesh, TopologyError> {
+        Mesh::build(positions, vertex_numbers, polygons, Split::EarClip)
+    }
+
+    /// [`Mesh::from_file_polygons`] for polygons known to be convex (the
+    /// faces of an intersection of half-spaces): fanned from their first
+    /// vertex, which is exact for a convex polygon.
+    pub fn from_convex_polygons(
+        positions: Vec<DVec3>,
+        polygons: Vec<Polygon>,
+    ) -> Result<Mesh, TopologyError> {
+        Mesh::build(positions, Vec::new(), polygons, Split::Fan)
+    }
+
+    fn build(
+        positions: Vec<DVec3>,
+        vertex_numbers: Vec<u32>,
+        polygons: Vec<Polygon>,
+        split: Split,
+    ) -> Result<Mesh, TopologyError> {
         let mut facets = Vec::with_capacity(polygons.len());
         let mut triangles = Vec::new();
         let mut triangle_facet = Vec::new();
-        for (index, (vertices, name)) in polygons.into_iter().enumerate() {
+        let number = |v: u32| vertex_numbers.get(v as usize).copied().unwrap_or(v + 1);
+        for (index, polygon) in polygons.into_iter().enumerate() {
+            let Polygon {
+                vertices,
+                name,
+                line,
+            } = polygon;
+            let label = || facet_label(index, line, name.as_deref());
             // Newell's method: the polygon's area vector, exact for planar
             // polygons and a least-squares plane normal otherwise.
             let mut area = DVec3::ZERO;
@@ -85,7 +192,7 @@ impl Mesh {
             }
             let len = area.length();
             if n < 3 || !(len > 0.0) || !len.is_finite() {
-                return Err(TopologyError::DegenerateFacet { facet: index });
+                return Err(TopologyError::DegenerateFacet { facet: label() });
             }
             let normal = area / len;
             let centroid = vertices
@@ -93,8 +200,18 @@ impl Mesh {
                 .map(|&v| positions[v as usize])
                 .sum::<DVec3>()
                 / n as f64;
-            for i in 1..n - 1 {
-                triangles.push([vertices[0], vertices[i], vertices[i + 1]]);
+            let split_triangles = match split {
+                Split::Fan => (1..n - 1)
+                    .map(|i| [vertices[0], vertices[i], vertices[i + 1]])
+                    .collect(),
+                Split::EarClip => triangulate(&positions, &vertices, normal, centroid, number)
+                    .map_err(|why| TopologyError::SelfIntersecting {
+                        facet: label(),
+                        why,
+                    })?,
+            };
+            for t in split_triangles {
+                triangles.push(t);
                 triangle_facet.push(index as u32);
             }
             facets.push(Facet {
@@ -102,6 +219,7 @@ impl Mesh {
                 offset: normal.dot(centroid),
                 vertices,
                 name,
+                line,
             });
         }
         Ok(Mesh {
@@ -109,7 +227,38 @@ impl Mesh {
             facets,
             triangles,
             triangle_facet,
+            vertex_numbers,
         })
+    }
+
+    /// The number the source file gives vertex `v` (1-based).
+    pub fn vertex_label(&self, v: u32) -> u32 {
+        self.vertex_numbers
+            .get(v as usize)
+            .copied()
+            .unwrap_or(v + 1)
+    }
+
+    /// `facet 12 (line 40, crown)` for facet `f` (0-based).
+    pub fn facet_label(&self, f: usize) -> String {
+        let facet = &self.facets[f];
+        facet_label(f, facet.line, facet.name.as_deref())
+    }
+
+    /// `vertices 21 and 9 (as numbered in the file) at (…) – (…)`.
+    fn edge_label(&self, a: u32, b: u32) -> String {
+        format!(
+            "vertices {} and {}{} at {} – {}",
+            self.vertex_label(a),
+            self.vertex_label(b),
+            if self.vertex_numbers.is_empty() {
+                ""
+            } else {
+                " (as numbered in the file)"
+            },
+            self.positions[a as usize],
+            self.positions[b as usize]
+        )
     }
 
     /// Checks that every edge is shared by exactly two facets that traverse
@@ -127,36 +276,37 @@ impl Mesh {
                 directed.entry((a, b)).or_default().push(f);
             }
         }
-        let p = |i: u32| self.positions[i as usize];
         let mut edges: Vec<_> = directed.iter().collect();
         edges.sort_by_key(|(k, _)| **k);
         for (&(a, b), users) in edges {
             if users.len() > 1 {
                 return Err(TopologyError::Inconsistent {
-                    a: a + 1,
-                    b: b + 1,
-                    pa: p(a),
-                    pb: p(b),
-                    f1: users[0],
-                    f2: users[1],
+                    edge: self.edge_label(a, b),
+                    f1: self.facet_label(users[0]),
+                    f2: self.facet_label(users[1]),
                 });
             }
             match directed.get(&(b, a)).map_or(0, Vec::len) {
                 0 => {
                     return Err(TopologyError::OpenEdge {
-                        a: a + 1,
-                        b: b + 1,
-                        pa: p(a),
-                        pb: p(b),
+                        edge: self.edge_label(a, b),
+                        facet: self.facet_label(users[0]),
                     })
                 }
                 1 => {}
                 count => {
+                    let facets = users
+                        .iter()
+                        .chain(&directed[&(b, a)])
+                        .take(4)
+                        .map(|&f| self.facet_label(f))
+                        .collect::<Vec<_>>()
+                        .join(", ");
                     return Err(TopologyError::NonManifold {
-                        a: a + 1,
-                        b: b + 1,
+                        edge: self.edge_label(a, b),
                         count: count + 1,
-                    })
+                        facets,
+                    });
                 }
             }
         }
@@ -219,6 +369,7 @@ impl Mesh {
                     offset: normal.dot(on_plane),
                     vertices,
                     name: f.name.clone(),
+                    line: f.line,
                 }
             })
             .collect();
@@ -232,6 +383,7 @@ impl Mesh {
             facets,
             triangles,
             triangle_facet: self.triangle_facet.clone(),
+            vertex_numbers: self.vertex_numbers.clone(),
         }
     }
 
@@ -242,6 +394,125 @@ impl Mesh {
             .map(|p| [p.x as f32, p.y as f32, p.z as f32])
             .collect()
     }
+}
+
+/// How polygons become triangles.
+#[derive(Clone, Copy)]
+enum Split {
+    /// Ear clipping in the polygon's plane (any simple polygon).
+    EarClip,
+    /// A fan from the first vertex (convex polygons only).
+    Fan,
+}
+
+/// Splits a simple polygon into triangles by ear clipping in its plane, each
+/// triangle wound like the polygon around `normal`. Refuses (saying why) a
+/// polygon that passes through a vertex twice, whose edges cross or touch,
+/// or whose triangles do not cover its area.
+fn triangulate(
+    positions: &[DVec3],
+    vertices: &[u32],
+    normal: DVec3,
+    centroid: DVec3,
+    number: impl Fn(u32) -> u32,
+) -> Result<Vec<[u32; 3]>, String> {
+    let n = vertices.len();
+    if n == 3 {
+        return Ok(vec![[vertices[0], vertices[1], vertices[2]]]);
+    }
+    // In-plane coordinates with u × w = normal, so a polygon winding
+    // counter-clockwise around the normal has positive area.
+    let u = normal.any_orthonormal_vector();
+    let w = normal.cross(u);
+    let pts: Vec<DVec2> = vertices
+        .iter()
+        .map(|&v| {
+            let d = positions[v as usize] - centroid;
+            DVec2::new(d.dot(u), d.dot(w))
+        })
+        .collect();
+    let mut first_at: HashMap<u32, usize> = HashMap::with_capacity(n);
+    for (i, &v) in vertices.iter().enumerate() {
+        if first_at.insert(v, i).is_some() {
+            return Err(format!("passes through vertex {} twice", number(v)));
+        }
+    }
+    if let Some((i, j)) = crossing_edges(&pts) {
+        let edge = |k: usize| format!("{}–{}", number(vertices[k]), number(vertices[(k + 1) % n]));
+        return Err(format!(
+            "has edges {} and {} that cross or touch",
+            edge(i),
+            edge(j)
+        ));
+    }
+    let mut out: Vec<usize> = Vec::with_capacity(3 * (n - 2));
+    earcut::Earcut::new().earcut(pts.iter().map(|q| [q.x, q.y]), &[] as &[usize], &mut out);
+    let shoelace = (0..n)
+        .map(|i| pts[i].perp_dot(pts[(i + 1) % n]))
+        .sum::<f64>()
+        / 2.0;
+    let mut covered = 0.0;
+    let triangles = out
+        .chunks_exact(3)
+        .map(|t| {
+            let (a, b, c) = (pts[t[0]], pts[t[1]], pts[t[2]]);
+            let twice = (b - a).perp_dot(c - a);
+            covered += twice.abs() / 2.0;
+            if twice >= 0.0 {
+                [vertices[t[0]], vertices[t[1]], vertices[t[2]]]
+            } else {
+                [vertices[t[0]], vertices[t[2]], vertices[t[1]]]
+            }
+        })
+        .collect();
+    let extent = pts.iter().map(|q| q.length_squared()).fold(0.0, f64::max);
+    if !((covered - shoelace).abs() <= 1e-9 * covered.max(shoelace.abs()) + 1e-15 * extent) {
+        return Err(format!(
+            "has an outline its triangles do not cover (area {shoelace:.6e}, triangles {covered:.6e})"
+        ));
+    }
+    Ok(triangles)
+}
+
+/// The first pair of edges (by index, edge `i` from point `i` to `i + 1`) of
+/// a closed 2-D outline that cross or touch, other than neighbours meeting
+/// at their shared point; a neighbour folding back along its predecessor
+/// counts. Quadratic, so outlines of more than 4096 points are not checked
+/// (the area test of [`triangulate`] still is).
+fn crossing_edges(pts: &[DVec2]) -> Option<(usize, usize)> {
+    let n = pts.len();
+    if n > 4096 {
+        return None;
+    }
+    let orient = |a: DVec2, b: DVec2, c: DVec2| (b - a).perp_dot(c - a);
+    let within = |a: DVec2, b: DVec2, p: DVec2| {
+        p.x >= a.x.min(b.x) && p.x <= a.x.max(b.x) && p.y >= a.y.min(b.y) && p.y <= a.y.max(b.y)
+    };
+    for i in 0..n {
+        let (a, b) = (pts[i], pts[(i + 1) % n]);
+        for j in i + 1..n {
+            let (c, d) = (pts[j], pts[(j + 1) % n]);
+            if j == i + 1 || (i == 0 && j == n - 1) {
+                // Neighbours: p → q → r through their shared point q.
+                let (p, q, r) = if j == i + 1 { (a, b, d) } else { (c, d, b) };
+                if orient(p, q, r) == 0.0 && (q - p).dot(r - q) < 0.0 {
+                    return Some((i, j));
+                }
+                continue;
+            }
+            let (o1, o2) = (orient(a, b, c), orient(a, b, d));
+            let (o3, o4) = (orient(c, d, a), orient(c, d, b));
+            let proper = o1 * o2 < 0.0 && o3 * o4 < 0.0;
+            let touching = (o1 == 0.0 && within(a, b, c))
+                || (o2 == 0.0 && within(a, b, d))
+                || (o3 == 0.0 && within(c, d, a))
+                || (o4 == 0.0 && within(c, d, b));
+            if proper || touching {
+                return Some((i, j));
+            }
+        }
+    }
+    None
 }
 
 #[cfg(test)]

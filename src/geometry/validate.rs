@@ -4,13 +4,20 @@
 //! zero area, non-planar beyond a tolerance (the worst is named), or with
 //! edges shorter than a tolerance.
 //!
+//! Convexity is judged per facet plane: each facet's plane against every
+//! vertex of the mesh, with a tolerance that grows with the vertex's
+//! distance from the facet over the facet's width (a sliver's plane is only
+//! known to the vertices' rounding divided by its width), so noisy slivers
+//! of a convex cut do not make it concave.
+//!
 //! Tolerances are relative to the mesh's size (the diagonal of its bounding
 //! box), so the same report reads the same for a design in GemCAD units and
 //! one in millimetres.
 
 use super::asc::parse_asc;
-use super::mesh::{Mesh, TopologyError};
-use super::obj::parse_obj;
+use super::mesh::{facet_label as label, polygon_width, Mesh, TopologyError};
+use super::obj::{read_obj, read_obj_file, ObjMesh, ZERO_AREA_WIDTH};
+use glam::DVec3;
 use std::collections::HashMap;
 use std::fmt;
 use std::path::Path;
@@ -22,22 +29,23 @@ pub struct Tolerances {
     /// non-planar.
     pub planarity: f64,
     /// A vertex farther than this above another facet's plane makes the
-    /// mesh concave.
+    /// mesh concave (for a facet as wide as the vertex is far from it; the
+    /// tolerance grows as distance over width for narrower facets).
     pub convexity: f64,
-    /// Facets with less area than this are degenerate.
-    pub area: f64,
+    /// Facets whose vertices all lie within this of a line are degenerate.
+    pub width: f64,
     /// Edges shorter than this are tiny.
     pub edge: f64,
 }
 
 impl Default for Tolerances {
-    /// Planarity and convexity 1e-6, area 1e-12, edges 1e-6 — the OBJ
-    /// loader reads f32 coordinates (1e-7 relative), so real facets pass.
+    /// Planarity, convexity, width and edges 1e-6 — mesh files print
+    /// coordinates to about 1e-7 relative, so real facets pass.
     fn default() -> Tolerances {
         Tolerances {
             planarity: 1e-6,
             convexity: 1e-6,
-            area: 1e-12,
+            width: ZERO_AREA_WIDTH,
             edge: 1e-6,
         }
     }
@@ -49,15 +57,19 @@ pub struct FacetIssue {
     /// 0-based facet index.
     pub facet: usize,
     pub name: Option<String>,
+    /// The file's line of the facet, if known.
+    pub line: Option<usize>,
     /// Area, or distance from the plane (absolute units).
     pub value: f64,
 }
 
-/// An edge (0-based vertex indices) and its length.
+/// An edge (0-based vertex indices, and the file's numbers of them) and its
+/// length.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EdgeIssue {
     pub a: u32,
     pub b: u32,
+    pub numbers: (u32, u32),
     pub length: f64,
 }
 
@@ -75,9 +87,11 @@ pub struct Report {
     /// Enclosed volume (divergence theorem).
     pub volume: f64,
     /// The facet with a vertex farthest above its plane, when beyond the
-    /// convexity tolerance (value: that height).
-    pub concavity: Option<FacetIssue>,
-    /// Facets with (near) zero area (value: area).
+    /// convexity tolerance (value: that height), and the file's number of
+    /// that vertex.
+    pub concavity: Option<(FacetIssue, u32)>,
+    /// Facets with (near) zero area: vertices within the width tolerance
+    /// of a line (value: area).
     pub degenerate: Vec<FacetIssue>,
     /// Facets whose vertices leave their plane beyond the tolerance (value:
     /// largest distance), worst first.
@@ -104,7 +118,12 @@ pub fn validate_with(mesh: &Mesh, tol: Tolerances) -> Report {
         (hi - lo).length()
     };
     let p = |v: u32| mesh.positions[v as usize];
-    let name = |f: usize| mesh.facets[f].name.clone();
+    let issue = |f: usize, value: f64| FacetIssue {
+        facet: f,
+        name: mesh.facets[f].name.clone(),
+        line: mesh.facets[f].line,
+        value,
+    };
 
     let mut degenerate = Vec::new();
     let mut nonplanar = Vec::new();
@@ -117,12 +136,8 @@ pub fn validate_with(mesh: &Mesh, tol: Tolerances) -> Report {
             .sum::<glam::DVec3>()
             .length()
             / 2.0;
-        if !(area > tol.area * size * size) {
-            degenerate.push(FacetIssue {
-                facet: i,
-                name: name(i),
-                value: area,
-            });
+        if !(polygon_width(&mesh.positions, &f.vertices) > tol.width * size) {
+            degenerate.push(issue(i, area));
         }
         let deviation = f
             .vertices
@@ -130,18 +145,10 @@ pub fn validate_with(mesh: &Mesh, tol: Tolerances) -> Report {
             .map(|&v| (f.normal.dot(p(v)) - f.offset).abs())
             .fold(0.0, f64::max);
         if worst_planarity.as_ref().is_none_or(|w| deviation > w.value) {
-            worst_planarity = Some(FacetIssue {
-                facet: i,
-                name: name(i),
-                value: deviation,
-            });
+            worst_planarity = Some(issue(i, deviation));
         }
         if deviation > tol.planarity * size {
-            nonplanar.push(FacetIssue {
-                facet: i,
-                name: name(i),
-                value: deviation,
-            });
+            nonplanar.push(issue(i, deviation));
         }
     }
     nonplanar.sort_by(|a, b| b.value.total_cmp(&a.value));
@@ -160,7 +167,12 @@ pub fn validate_with(mesh: &Mesh, tol: Tolerances) -> Report {
         let length = p(a).distance(p(b));
         shortest_edge = shortest_edge.min(length);
         if length < tol.edge * size {
-            tiny_edges.push(EdgeIssue { a, b, length });
+            tiny_edges.push(EdgeIssue {
+                a,
+                b,
+                numbers: (mesh.vertex_label(a), mesh.vertex_label(b)),
+                length,
+            });
         }
     }
     tiny_edges.sort_by(|x, y| {
@@ -186,31 +198,51 @@ pub fn validate_with(mesh: &Mesh, tol: Tolerances) -> Report {
     }
 }
 
-/// The facet with a vertex highest above its plane, if higher than `tol`.
-/// Every vertex against every facet for gem-sized meshes; for large ones,
-/// each facet against the vertices of the facets sharing its edges (a
-/// closed connected surface convex at every edge is convex).
-fn concavity(mesh: &Mesh, tol: f64) -> Option<FacetIssue> {
-    let mut worst: Option<FacetIssue> = None;
-    let mut consider = |facet: usize, height: f64| {
-        if height > tol && worst.as_ref().is_none_or(|w| height > w.value) {
-            worst = Some(FacetIssue {
-                facet,
-                name: mesh.facets[facet].name.clone(),
-                value: height,
-            });
+/// The facet with a vertex highest above its plane beyond the tolerance,
+/// and that vertex. A vertex at distance `r` from a facet of width `w` is
+/// above it when higher than `tol · (1 + r / w)`: a facet's plane, fitted to
+/// vertices rounded by about `tol`, tilts by up to `tol / w`. Every vertex
+/// against every facet for gem-sized meshes; for large ones, each facet
+/// against the vertices of the facets sharing its edges (a closed connected
+/// surface convex at every edge is convex).
+fn concavity(mesh: &Mesh, tol: f64) -> Option<(FacetIssue, u32)> {
+    let frames: Vec<(DVec3, f64)> = mesh
+        .facets
+        .iter()
+        .map(|f| {
+            let centroid = f
+                .vertices
+                .iter()
+                .map(|&v| mesh.positions[v as usize])
+                .sum::<DVec3>()
+                / f.vertices.len().max(1) as f64;
+            (centroid, polygon_width(&mesh.positions, &f.vertices))
+        })
+        .collect();
+    let mut worst: Option<(FacetIssue, u32)> = None;
+    let mut consider = |facet: usize, v: u32| {
+        let f = &mesh.facets[facet];
+        let p = mesh.positions[v as usize];
+        let height = f.normal.dot(p) - f.offset;
+        let (centroid, width) = frames[facet];
+        let allowed = tol * (1.0 + p.distance(centroid) / width);
+        if height > allowed && worst.as_ref().is_none_or(|w| height > w.0.value) {
+            worst = Some((
+                FacetIssue {
+                    facet,
+                    name: f.name.clone(),
+                    line: f.line,
+                    value: height,
+                },
+                mesh.vertex_label(v),
+            ));
         }
-    };
-    let height = |f: usize, v: u32| {
-        let facet = &mesh.facets[f];
-        facet.normal.dot(mesh.positions[v as usize]) - facet.offset
     };
     if mesh.facets.len() * mesh.positions.len() <= 20_000_000 {
         for f in 0..mesh.facets.len() {
-            let h = (0..mesh.positions.len() as u32)
-                .map(|v| height(f, v))
-                .fold(f64::MIN, f64::max);
-            consider(f, h);
+            for v in 0..mesh.positions.len() as u32 {
+                consider(f, v);
+            }
         }
     } else {
         let mut by_edge: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
@@ -225,12 +257,9 @@ fn concavity(mesh: &Mesh, tol: f64) -> Option<FacetIssue> {
             for &f in users {
                 for &g in users {
                     if f != g {
-                        let h = mesh.facets[g]
-                            .vertices
-                            .iter()
-                            .map(|&v| height(f, v))
-                            .fold(f64::MIN, f64::max);
-                        consider(f, h);
+                        for &v in &mesh.facets[g].vertices {
+                            consider(f, v);
+                        }
                     }
                 }
             }
@@ -239,12 +268,9 @@ fn concavity(mesh: &Mesh, tol: f64) -> Option<FacetIssue> {
     worst
 }
 
-/// `facet 12 (bezel-3)`, 1-based as a user counts.
+/// `facet 12 (line 40, bezel-3)`, 1-based as a user counts.
 fn facet_label(issue: &FacetIssue) -> String {
-    match &issue.name {
-        Some(n) => format!("facet {} ({n})", issue.facet + 1),
-        None => format!("facet {}", issue.facet + 1),
-    }
+    label(issue.facet, issue.line, issue.name.as_deref())
 }
 
 impl Report {
@@ -285,11 +311,11 @@ impl Report {
         }
         if let Some(e) = self.tiny_edges.first() {
             out.push(format!(
-                "{} edge(s) are shorter than {:.1e} of the size; the shortest joins vertices {} and {} (1-based), length {:.3e}",
+                "{} edge(s) are shorter than {:.1e} of the size; the shortest joins vertices {} and {}, length {:.3e}",
                 self.tiny_edges.len(),
                 self.tolerances.edge,
-                e.a + 1,
-                e.b + 1,
+                e.numbers.0,
+                e.numbers.1,
                 e.length
             ));
         }
@@ -301,8 +327,8 @@ impl Report {
         let shape = match (&self.topology, &self.concavity) {
             (Some(_), _) => "not a closed oriented surface".to_owned(),
             (None, None) => "closed, oriented, convex".to_owned(),
-            (None, Some(c)) => format!(
-                "closed, oriented, concave ({} has a vertex {:.3e} above it)",
+            (None, Some((c, v))) => format!(
+                "closed, oriented, concave ({} has vertex {v} {:.3e} above its plane)",
                 facet_label(c),
                 c.value
             ),
@@ -365,12 +391,21 @@ pub struct LoadedMesh {
 
 /// Loads an `.obj` or `.asc` file and validates it: malformed files give
 /// `file:line: message`; a mesh that is not closed and consistently
-/// oriented is an error naming the file; everything else comes back as
-/// warnings. The scene loader calls this for `mesh = "…"`.
+/// oriented is an error naming the file (and the facets' lines); everything
+/// else comes back as warnings. OBJ files are read line by line. The scene
+/// loader calls this for `mesh = "…"`.
 pub fn load_mesh(path: &Path) -> Result<LoadedMesh, String> {
     let file = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
-    mesh_from_bytes(&bytes, &file)
+    match MeshFormat::of(&file) {
+        Some(MeshFormat::Obj) => {
+            let read = read_obj_file(path).map_err(|e| e.to_string())?;
+            checked(read.mesh, read.warnings, &read.dropped, &file)
+        }
+        _ => {
+            let bytes = std::fs::read(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
+            mesh_from_bytes(&bytes, &file)
+        }
+    }
 }
 
 /// [`load_mesh`] for bytes already in memory; `file` names them and its
@@ -391,24 +426,46 @@ pub fn mesh_from_bytes_as(
     file: &str,
     format: MeshFormat,
 ) -> Result<LoadedMesh, String> {
-    let (mesh, mut warnings) = match format {
+    match format {
         MeshFormat::Obj => {
-            let text = String::from_utf8_lossy(bytes);
-            (
-                parse_obj(&text, file).map_err(|e| e.to_string())?,
-                Vec::new(),
-            )
+            let ObjMesh {
+                mesh,
+                warnings,
+                dropped,
+            } = read_obj(bytes, file).map_err(|e| e.to_string())?;
+            checked(mesh, warnings, &dropped, file)
         }
         MeshFormat::Asc => {
             let stone = parse_asc(bytes, file)
                 .and_then(|d| d.stone())
                 .map_err(|e| e.to_string())?;
-            (stone.mesh, stone.notes)
+            checked(stone.mesh, stone.notes, &[], file)
         }
-    };
+    }
+}
+
+/// Validates a loaded mesh: a topology error names the file (and the
+/// zero-area faces dropped before the check, whose removal may have opened
+/// the mesh); the report's warnings join the loader's.
+fn checked(
+    mesh: Mesh,
+    mut warnings: Vec<String>,
+    dropped: &[usize],
+    file: &str,
+) -> Result<LoadedMesh, String> {
     let report = validate(&mesh);
     if let Some(t) = &report.topology {
-        return Err(format!("{file}: {t}"));
+        let mut message = format!("{file}: {t}");
+        if !dropped.is_empty() {
+            let lines: Vec<String> = dropped.iter().take(8).map(|l| l.to_string()).collect();
+            message += &format!(
+                " (after dropping {} zero-area face(s), at line(s) {}{})",
+                dropped.len(),
+                lines.join(", "),
+                if dropped.len() > 8 { ", …" } else { "" }
+            );
+        }
+        return Err(message);
     }
     warnings.extend(
         report
@@ -430,7 +487,6 @@ pub fn mesh_from_bytes_as(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::DVec3;
 
     /// A unit cube, counter-clockwise from outside, with vertex 6 moved by
     /// `dent` along (−1, −1, −1) (into the cube when positive, making it
