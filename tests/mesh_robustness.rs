@@ -179,6 +179,36 @@ fn a_concave_24_gon_is_covered_exactly_by_its_triangles() {
 }
 
 #[test]
+fn convex_faces_keep_the_fan_from_their_first_vertex() {
+    // A convex octagon with a nearly collinear (noisy) corner, as real cuts
+    // have: the fan from vertex 0 is what every convex face got before ear
+    // clipping, and keeping it keeps convex cuts' images as they were. A
+    // concave outline (the star above) is not fanned.
+    let mut positions: Vec<DVec3> = (0..8)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / 8.0;
+            DVec3::new(a.cos(), a.sin(), 0.0)
+        })
+        .collect();
+    // Vertex 3 pushed inward by 1e-13 of the midpoint of its neighbours'
+    // chord: a clockwise turn far inside the tolerance.
+    positions[3] = (positions[2] + positions[4]) / 2.0 * (1.0 - 1e-13);
+    let m = Mesh::from_polygons(positions, vec![((0..8).collect(), None)]).unwrap();
+    let fan: Vec<[u32; 3]> = (1..7).map(|i| [0, i, i + 1]).collect();
+    assert_eq!(m.triangles, fan);
+    let star_mesh = Mesh::from_polygons(
+        star(12, 0.35)
+            .iter()
+            .map(|p| DVec3::new(p[0], p[1], 0.0))
+            .collect(),
+        vec![((0..24).collect(), None)],
+    )
+    .unwrap();
+    let star_fan: Vec<[u32; 3]> = (1..23).map(|i| [0, i, i + 1]).collect();
+    assert_ne!(star_mesh.triangles, star_fan);
+}
+
+#[test]
 fn a_star_prism_is_closed_oriented_and_said_to_be_concave() {
     let poly = star(12, 0.35);
     let loaded = mesh_from_bytes(prism_obj(&poly, 0.5).as_bytes(), "star.obj").unwrap();

@@ -4,10 +4,10 @@
 //! A real cut has near-meeting facets whose tiny triangles would get normals
 //! off by 1e-4 rad if each triangle's normal came from its own three
 //! vertices; a facet's normal comes from all of its vertices (Newell's
-//! method), once, and every triangle of the facet uses it. Facets are split
-//! into triangles by ear clipping in the facet's plane (the `earcut` crate),
-//! so concave facets are covered exactly; a facet whose outline crosses or
-//! touches itself is refused.
+//! method), once, and every triangle of the facet uses it. Convex facets are
+//! fanned from their first vertex; concave ones are split by ear clipping in
+//! the facet's plane (the `earcut` crate), so they are covered exactly; a
+//! facet whose outline crosses or touches itself is refused.
 
 use glam::{DAffine3, DVec2, DVec3};
 use std::collections::HashMap;
@@ -405,7 +405,8 @@ enum Split {
     Fan,
 }
 
-/// Splits a simple polygon into triangles by ear clipping in its plane, each
+/// Splits a simple polygon into triangles: a convex one by the fan from its
+/// first vertex, any other by ear clipping in its plane, each
 /// triangle wound like the polygon around `normal`. Refuses (saying why) a
 /// polygon that passes through a vertex twice, whose edges cross or touch,
 /// or whose triangles do not cover its area.
@@ -444,6 +445,24 @@ fn triangulate(
             edge(i),
             edge(j)
         ));
+    }
+    // A simple outline that never turns clockwise is convex: the fan from
+    // its first vertex is exact and is what convex faces always got (so
+    // their triangles, and every image of a convex cut, stay as they were).
+    // The tolerance admits noisy, nearly collinear corners of real cuts.
+    // Turning once in all (exterior angles summing to 2π) rules out an
+    // outline that winds twice, which crossing_edges skips past 4096 points.
+    let mut turning = 0.0;
+    let convex = (0..n).all(|i| {
+        let (a, b, c) = (pts[i], pts[(i + 1) % n], pts[(i + 2) % n]);
+        let (e1, e2) = (b - a, c - b);
+        turning += e1.perp_dot(e2).atan2(e1.dot(e2));
+        e1.perp_dot(e2) >= -1e-9 * e1.length() * e2.length()
+    }) && (turning - std::f64::consts::TAU).abs() < 1e-6;
+    if convex {
+        return Ok((1..n - 1)
+            .map(|i| [vertices[0], vertices[i], vertices[i + 1]])
+            .collect());
     }
     let mut out: Vec<usize> = Vec::with_capacity(3 * (n - 2));
     earcut::Earcut::new().earcut(pts.iter().map(|q| [q.x, q.y]), &[] as &[usize], &mut out);
