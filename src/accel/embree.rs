@@ -204,7 +204,7 @@ mod tests {
             None,
         )
         .unwrap();
-        let dir = DVec3::new(0.0003, -0.6, 0.8).normalize();
+        let dir = DVec3::new(0.0003, 0.6, -0.8).normalize();
         let target = DVec3::new(0.123456, 0.345678, 1.0);
         let origin = target - 1000.0 * dir;
         let hit = accel.intersect(&Ray::new(origin, dir)).unwrap();
