@@ -157,8 +157,7 @@ impl<'a> Tree<'a> {
             match (na.count > 0, nb.count > 0) {
                 (true, true) => {
                     for &ta in &self.order[na.first as usize..(na.first + na.count) as usize] {
-                        for &tb in &other.order[nb.first as usize..(nb.first + nb.count) as usize]
-                        {
+                        for &tb in &other.order[nb.first as usize..(nb.first + nb.count) as usize] {
                             if f(ta, tb) {
                                 return Some((ta, tb));
                             }
@@ -480,9 +479,7 @@ mod tests {
     #[test]
     fn meshes_overlapping_touching_nested_and_apart() {
         let a = cube(0.0, 1.0);
-        let shifted = |m: &Mesh, d: DVec3| {
-            m.transformed(&glam::DAffine3::from_translation(d))
-        };
+        let shifted = |m: &Mesh, d: DVec3| m.transformed(&glam::DAffine3::from_translation(d));
         let overlap = shifted(&a, DVec3::new(0.5, 0.3, 0.2));
         assert!(matches!(
             meshes_meet(&a, &overlap, 1e-9),
