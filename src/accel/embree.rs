@@ -7,12 +7,15 @@ use super::{traceable, validate_meshes, AccelError, Hit, Intersector, Ray, Trian
 use crate::native::embree::{CommittedScene, Device, RayF32};
 use glam::DVec3;
 
+/// One mesh's f32 vertices and triangles.
+type StoredMesh = (Vec<[f32; 3]>, Vec<[u32; 3]>);
+
 /// Embree's BVH over a set of triangle meshes.
 pub struct EmbreeAccel {
     scene: CommittedScene,
     /// The f32 vertices and triangles Embree was given, per mesh, for the
     /// f64 refinement of hits.
-    meshes: Vec<(Vec<[f32; 3]>, Vec<[u32; 3]>)>,
+    meshes: Vec<StoredMesh>,
     _device: Device,
 }
 

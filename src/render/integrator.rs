@@ -192,7 +192,7 @@ impl Stats {
             ),
         ];
         reasons.retain(|r| r.0 > 0);
-        reasons.sort_by(|a, b| b.0.cmp(&a.0));
+        reasons.sort_by_key(|r| std::cmp::Reverse(r.0));
         let list: Vec<String> = reasons
             .iter()
             .map(|(n, why)| format!("{n} because {why}"))
