@@ -41,6 +41,22 @@ impl Ray {
     }
 }
 
+/// Largest coordinate magnitude of a ray's origin and direction that every
+/// backend takes: Embree 3 asserts `|x| ≤ 1.844e18` (its `FLT_LARGE`) on
+/// every component and aborts the process otherwise; spar stays well below.
+pub const MAX_RAY_COMPONENT: f64 = 1e18;
+
+/// Whether a ray can be handed to a backend: origin and direction finite
+/// and within [`MAX_RAY_COMPONENT`] after rounding to f32, the direction
+/// not zero, and `tmin ≤ tmax` with neither NaN. Backends answer `None` for
+/// any other ray instead of tracing it; the integrator counts such a ray as
+/// lost.
+#[inline]
+pub fn traceable(ray: &Ray) -> bool {
+    let ok = |v: DVec3| v.is_finite() && v.abs().max_element() <= MAX_RAY_COMPONENT;
+    ok(ray.origin) && ok(ray.dir) && (ray.dir.as_vec3() != glam::Vec3::ZERO) && ray.tmin <= ray.tmax
+}
+
 /// The closest hit along a ray.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hit {

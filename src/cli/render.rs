@@ -1090,7 +1090,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     if !args.quiet {
         let secs = t_render.as_secs_f64();
         eprintln!(
-            "{}x{} px, region {}, samples {}, {} wavelength(s): accel {} {:.2} s, render {:.2} s, {} rays ({:.2} M rays/s), {} nodes, {} pruned, {} cut by depth, {} lost",
+            "{}x{} px, region {}, samples {}, {} wavelength(s): accel {} {:.2} s, render {:.2} s, {} rays ({:.2} M rays/s), {} nodes, {} pruned, {} cut by depth, {} lost{}",
             w,
             h,
             spec.region,
@@ -1104,8 +1104,17 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             stats.nodes,
             stats.pruned,
             stats.depth_cut,
-            stats.lost
+            stats.lost,
+            if stats.lost > 0 {
+                format!(" ({})", stats.lost_breakdown())
+            } else {
+                String::new()
+            }
         );
+    }
+    // Lost light is reported even with --quiet: the image is wrong.
+    if let Some(w) = stats.lost_light_warning() {
+        eprintln!("spar: warning: {scene_label}: {w}");
     }
     reporter.event("done", &format!("{:.1}s", started.elapsed().as_secs_f64()));
     Ok(())

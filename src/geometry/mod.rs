@@ -5,6 +5,7 @@ pub mod convex;
 pub mod cuts;
 pub mod mesh;
 pub mod obj;
+pub mod overlap;
 pub mod validate;
 
 pub use mesh::{Facet, Mesh, TopologyError};

@@ -253,6 +253,7 @@ impl Scene {
 
         // Objects.
         let mut objects = Vec::new();
+        let mut places = Vec::new();
         for (i, o) in def.objects.iter().enumerate() {
             let field = |f: &str| format!("object[{i}].{f}");
             let o_span = o.span();
@@ -299,12 +300,26 @@ impl Scene {
                 _ => return loc.err(o_span.clone(), format!("object[{i}]"), "give exactly one of `mesh` (a file or builtin:NAME) and `cut` (a standard cut)"),
             };
             let mesh = mesh.transformed(&transform);
+            places.push(ObjectPlace {
+                span: o_span.clone(),
+                transform: o.transform.as_ref().map(|t| {
+                    let d = t.get_ref();
+                    (t.span(), d.scale.is_some(), d.translate.is_some())
+                }),
+                source: match (&o.mesh, &o.cut) {
+                    (Some(m), _) => (m.span(), field("mesh")),
+                    (_, Some(c)) => (c.span(), field("cut")),
+                    _ => (o_span.clone(), format!("object[{i}]")),
+                },
+            });
             objects.push(Object {
                 name,
                 mesh,
                 material,
             });
         }
+
+        check_whole_scene(&loc, &objects, &places, camera.eye, c.eye.span())?;
 
         // Lights.
         let mut lights = Vec::new();
@@ -365,6 +380,183 @@ impl Scene {
     pub fn has_crystals(&self) -> bool {
         self.objects.iter().any(|o| o.material.is_uniaxial())
     }
+}
+
+/// Where an object is defined, for errors found once the whole scene is
+/// known: its table, its transform (span, has a scale, has a translation)
+/// and its mesh or cut (span and field name).
+struct ObjectPlace {
+    span: std::ops::Range<usize>,
+    transform: Option<(std::ops::Range<usize>, bool, bool)>,
+    source: (std::ops::Range<usize>, String),
+}
+
+/// Largest coordinate, in scene units, of any object or the camera.
+/// Embree traces in f32 and aborts on coordinates beyond 1.8e18; its
+/// triangle test multiplies three coordinates, and the Rust BVH's test
+/// likewise (a gem scaled by 1e-20 made the Rust BVH loop for minutes).
+/// A conservative range, not a measured edge: tests/accel_scale.rs checks
+/// the Rust BVH from 1e-5 to 1e5 and 1000 sizes away.
+pub const MAX_COORDINATE: f64 = 1e6;
+
+/// Smallest size (largest side of its bounding box) of an object, in scene
+/// units; with [`MAX_COORDINATE`] nine decades of scale.
+pub const MIN_OBJECT_SIZE: f64 = 1e-3;
+
+/// Smallest size of an object relative to the scene's extent (the largest
+/// coordinate of any object). Secondary rays start 1e-5 of the extent
+/// from the surface they leave (f32 hit points are good to a few 1e-7 of
+/// it): an object smaller than 1e-3 of the extent would be stepped over by
+/// 1 % of its size or more.
+pub const MIN_RELATIVE_SIZE: f64 = 1e-3;
+
+/// Objects closer than this fraction of the scene's extent count as
+/// touching (the offset secondary rays start at).
+pub const TOUCH_FRACTION: f64 = 1e-5;
+
+/// Checks of the whole scene once every object is placed: coordinates and
+/// sizes in the range f32 tracing handles, the camera outside every object,
+/// no two objects overlapping, touching or nested, no mesh intersecting
+/// itself.
+fn check_whole_scene(
+    loc: &Locator<'_>,
+    objects: &[Object],
+    places: &[ObjectPlace],
+    eye: DVec3,
+    eye_span: std::ops::Range<usize>,
+) -> Result<(), SceneError> {
+    use crate::geometry::overlap;
+    let bounds: Vec<(DVec3, DVec3)> = objects.iter().map(|o| o.mesh.bounds()).collect();
+    let reach = |(lo, hi): (DVec3, DVec3)| lo.abs().max(hi.abs()).max_element();
+    let extent = bounds.iter().map(|&b| reach(b)).fold(0.0, f64::max);
+    let line_of = |i: usize| {
+        loc.line(places[i].span.clone())
+            .map_or(String::from("?"), |l| l.to_string())
+    };
+    let describe = |i: usize| {
+        format!(
+            "object[{i}] ({}, {}:{})",
+            objects[i].name,
+            loc.file,
+            line_of(i)
+        )
+    };
+    // Field naming what made object i too large, too small or too far.
+    let blame = |i: usize, position: bool| -> (std::ops::Range<usize>, String) {
+        let p = &places[i];
+        match p.transform {
+            Some((ref span, _, true)) if position => {
+                (span.clone(), format!("object[{i}].transform.translate"))
+            }
+            Some((ref span, true, _)) => (span.clone(), format!("object[{i}].transform.scale")),
+            _ => p.source.clone(),
+        }
+    };
+    for (i, &(lo, hi)) in bounds.iter().enumerate() {
+        let size = (hi - lo).max_element();
+        let r = reach((lo, hi));
+        if !(r <= MAX_COORDINATE) {
+            let (span, field) = blame(i, size <= MAX_COORDINATE);
+            return loc.err(
+                span,
+                field,
+                format!(
+                    "{} reaches {r:.3e} from the origin: every coordinate must be within \
+                     {MAX_COORDINATE:e} units (spar traces in single precision)",
+                    objects[i].name
+                ),
+            );
+        }
+        if !(size >= MIN_OBJECT_SIZE) {
+            let (span, field) = blame(i, false);
+            return loc.err(
+                span,
+                field,
+                format!(
+                    "{} is {size:.3e} units across: objects must be at least \
+                     {MIN_OBJECT_SIZE:e} units (scale the whole scene up)",
+                    objects[i].name
+                ),
+            );
+        }
+        if !(size >= MIN_RELATIVE_SIZE * extent) {
+            let (span, field) = blame(i, true);
+            return loc.err(
+                span,
+                field,
+                format!(
+                    "{} is {size:.3e} units across, less than {MIN_RELATIVE_SIZE:e} of the \
+                     scene's extent {extent:.3e}: single-precision tracing cannot resolve it \
+                     (move the scene nearer the origin or the objects nearer each other)",
+                    objects[i].name
+                ),
+            );
+        }
+    }
+    if !(eye.abs().max_element() <= MAX_COORDINATE) {
+        return loc.err(
+            eye_span,
+            "camera.eye",
+            format!(
+                "{eye} is beyond {MAX_COORDINATE:e} units from the origin (spar traces in \
+                 single precision): bring the camera nearer and narrow its field of view"
+            ),
+        );
+    }
+    for (i, o) in objects.iter().enumerate() {
+        if overlap::point_inside(&o.mesh, eye) {
+            return loc.err(
+                eye_span,
+                "camera.eye",
+                format!(
+                    "the camera is inside {} (or on its surface): every camera ray would \
+                     start inside the stone",
+                    describe(i)
+                ),
+            );
+        }
+    }
+    let tol = TOUCH_FRACTION * extent;
+    for i in 0..objects.len() {
+        for j in i + 1..objects.len() {
+            let Some(meeting) = overlap::meshes_meet(&objects[i].mesh, &objects[j].mesh, tol)
+            else {
+                continue;
+            };
+            let how = match meeting {
+                overlap::Meeting::Surfaces(..) => format!(
+                    "overlaps or touches (comes within {tol:.1e} units of) {}",
+                    describe(j)
+                ),
+                overlap::Meeting::FirstInside => format!("lies inside {}", describe(j)),
+                overlap::Meeting::SecondInside => format!("contains {}", describe(j)),
+            };
+            return loc.err(
+                places[i].span.clone(),
+                format!("object[{i}]"),
+                format!(
+                    "{} {how}: objects must be apart (light inside one cannot enter \
+                     another)",
+                    describe(i)
+                ),
+            );
+        }
+    }
+    for (i, o) in objects.iter().enumerate() {
+        if let Some((a, b)) = overlap::self_intersection(&o.mesh) {
+            let (span, field) = places[i].source.clone();
+            return loc.err(
+                span,
+                field,
+                format!(
+                    "{}: the mesh intersects itself (triangles {a} and {b} cross): it does \
+                     not bound a solid",
+                    describe(i)
+                ),
+            );
+        }
+    }
+    Ok(())
 }
 
 /// Error constructor handed to submodules.
