@@ -637,6 +637,11 @@ pub fn render_film(
     let (film, stats) = pool.install(|| crate::render::render(scene, accel.as_ref(), &options));
     let render_time = t1.elapsed();
     check_finite(film.data.iter().flatten())?;
+    // compare, speed-error and contact-sheet render through here: lost
+    // light is reported as spar render reports it.
+    if let Some(w) = stats.lost_light_warning() {
+        eprintln!("spar: warning: {w}");
+    }
     Ok(Rendered {
         film,
         stats,
