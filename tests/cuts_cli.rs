@@ -16,6 +16,11 @@ mod geometry {
 mod atomic_file {
     pub use spar::atomic_file::*;
 }
+mod cli {
+    pub mod render {
+        pub use spar::cli::render::check_output_location;
+    }
+}
 const VERSION: &str = spar::VERSION;
 #[path = "../src/cli/cut.rs"]
 #[allow(dead_code)]

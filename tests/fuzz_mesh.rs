@@ -13,7 +13,8 @@ use rand_pcg::Pcg64;
 use spar::geometry::validate::{mesh_from_bytes, LoadedMesh};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
-use std::process::Command;
+
+mod mesh_common;
 
 /// A mesh file: its name and bytes.
 type Case = (String, Vec<u8>);
@@ -232,27 +233,7 @@ fn mutated_gems_load_or_fail_with_a_location_and_never_panic() {
 }
 
 fn spar_render(dir: &Path, mesh: &str) -> i32 {
-    let scene = format!(
-        "[camera]\neye = [0.0, -3.0, 2.0]\nlook_at = [0.0, 0.0, 0.0]\nfov = 30.0\nresolution = [8, 8]\n\n\
-         [[object]]\nmesh = \"{mesh}\"\nmedium = \"n-bk7\"\n\n\
-         [[light]]\ncorners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, -1.5]]\n"
-    );
-    std::fs::write(dir.join("scene.toml"), scene).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_spar"))
-        .args([
-            "render",
-            "scene.toml",
-            "--resolution",
-            "8x8",
-            "--samples",
-            "1",
-            "--quiet",
-            "-o",
-            "out.png",
-        ])
-        .current_dir(dir)
-        .output()
-        .unwrap();
+    let out = mesh_common::render_mesh(dir, mesh);
     match out.status.code() {
         Some(code) => code,
         None => panic!(

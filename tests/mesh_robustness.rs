@@ -7,7 +7,8 @@ use glam::{DQuat, DVec3};
 use spar::geometry::validate::{load_mesh, mesh_from_bytes};
 use spar::geometry::Mesh;
 use std::path::Path;
-use std::process::Command;
+
+mod mesh_common;
 
 /// A unit cube as OBJ (vertex 8 given), faces counter-clockwise from outside.
 fn cube_obj(v8: &str) -> String {
@@ -78,27 +79,7 @@ fn prism_obj(poly: &[[f64; 2]], h: f64) -> String {
 }
 
 fn spar_render(dir: &Path, mesh: &str) -> (i32, String) {
-    let scene = format!(
-        "[camera]\neye = [0.0, -3.0, 2.0]\nlook_at = [0.0, 0.0, 0.0]\nfov = 30.0\nresolution = [8, 8]\n\n\
-         [[object]]\nmesh = \"{mesh}\"\nmedium = \"n-bk7\"\n\n\
-         [[light]]\ncorners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, -1.5]]\n"
-    );
-    std::fs::write(dir.join("scene.toml"), scene).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_spar"))
-        .args([
-            "render",
-            "scene.toml",
-            "--resolution",
-            "8x8",
-            "--samples",
-            "1",
-            "--quiet",
-            "-o",
-            "out.png",
-        ])
-        .current_dir(dir)
-        .output()
-        .unwrap();
+    let out = mesh_common::render_mesh(dir, mesh);
     (
         out.status.code().unwrap_or(-1),
         String::from_utf8_lossy(&out.stderr).into_owned(),

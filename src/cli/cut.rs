@@ -196,24 +196,7 @@ fn check_obj_output(path: &std::path::Path) -> Result<(), CliError> {
             path.display()
         )));
     }
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(std::path::Path::new("."));
-    if !dir.is_dir() {
-        return Err(CliError::Input(format!(
-            "{}: the directory {} does not exist",
-            path.display(),
-            dir.display()
-        )));
-    }
-    if path.is_dir() {
-        return Err(CliError::Input(format!(
-            "{}: is a directory, not a file name",
-            path.display()
-        )));
-    }
-    Ok(())
+    crate::cli::render::check_output_location(path)
 }
 
 /// A standard cut from its name and the flags given.

@@ -721,9 +721,29 @@ fn film_what(
     format!("{size}{part} with {lambdas}")
 }
 
-/// Refuses an output whose directory does not exist or that names a
-/// directory, before any work starts.
+/// Refuses an image output whose directory does not exist, that names a
+/// directory or (in the pure-Rust build) a format it cannot write, before
+/// any work starts.
 pub fn check_output(path: &Path) -> Result<(), CliError> {
+    check_output_location(path)?;
+    // The pure-Rust image backend writes EXR and PNG only.
+    #[cfg(not(feature = "native"))]
+    if !path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png") || e.eq_ignore_ascii_case("exr"))
+    {
+        return Err(CliError::Input(format!(
+            "{}: this spar was built without the `native` feature and writes .png and .exr \
+             files only",
+            path.display()
+        )));
+    }
+    Ok(())
+}
+
+/// Refuses an output whose directory does not exist or that names a
+/// directory, before any work starts (every command that writes a file).
+pub fn check_output_location(path: &Path) -> Result<(), CliError> {
     let dir = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
@@ -738,18 +758,6 @@ pub fn check_output(path: &Path) -> Result<(), CliError> {
     if path.is_dir() {
         return Err(CliError::Input(format!(
             "{}: is a directory, not a file name",
-            path.display()
-        )));
-    }
-    // The pure-Rust image backend writes EXR and PNG only.
-    #[cfg(not(feature = "native"))]
-    if !path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("png") || e.eq_ignore_ascii_case("exr"))
-    {
-        return Err(CliError::Input(format!(
-            "{}: this spar was built without the `native` feature and writes .png and .exr \
-             files only",
             path.display()
         )));
     }

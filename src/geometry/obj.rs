@@ -329,16 +329,19 @@ pub fn read_obj(mut reader: impl BufRead, file: &str) -> Result<ObjMesh, ObjErro
     };
     let mut state = Reader::default();
     let mut buf = Vec::new();
+    let mut read_line = |buf: &mut Vec<u8>| {
+        reader
+            .read_until(b'\n', buf)
+            .map_err(|source| ObjError::Io {
+                file: file.into(),
+                source,
+            })
+    };
     let mut line_no = 0usize;
     let mut text = String::new();
     loop {
         buf.clear();
-        let n = reader
-            .read_until(b'\n', &mut buf)
-            .map_err(|source| ObjError::Io {
-                file: file.into(),
-                source,
-            })?;
+        let n = read_line(&mut buf)?;
         if n == 0 {
             break;
         }
@@ -351,12 +354,7 @@ pub fn read_obj(mut reader: impl BufRead, file: &str) -> Result<ObjMesh, ObjErro
             text.pop();
             text.push(' ');
             buf.clear();
-            let n = reader
-                .read_until(b'\n', &mut buf)
-                .map_err(|source| ObjError::Io {
-                    file: file.into(),
-                    source,
-                })?;
+            let n = read_line(&mut buf)?;
             if n == 0 {
                 break;
             }
