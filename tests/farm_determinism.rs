@@ -7,13 +7,13 @@ mod farm_common;
 
 use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
-use spar::farm::blocks::SampleRange;
 use spar::farm::checkpoint;
 use spar::farm::merge::merge;
 use spar::farm::part::{part_image, read_part, RenderInfo};
-use spar::farm::region::Rect;
+use spar::render::blocks::SampleRange;
 use spar::render::film::Film;
 use spar::render::integrator::TreeSettings;
+use spar::render::region::Rect;
 use spar::render::{render, render_part, Control, Outcome, PartSpec, RawPart, RenderOptions};
 use spar::scene::Scene;
 use std::sync::atomic::{AtomicBool, Ordering};

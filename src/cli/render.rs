@@ -5,16 +5,16 @@
 
 use super::CliError;
 use crate::accel::{AccelKind, Intersector, TriangleMesh};
-use crate::farm::blocks::SampleRange;
 use crate::farm::checkpoint;
 use crate::farm::part::{part_image, RenderInfo};
 use crate::farm::progress::{ProgressMode, Reporter};
-use crate::farm::region::{self, Rect, TileSpec};
 use crate::image::{PixelType, WriteOptions};
 use crate::render::approx::{self, BranchingArg, PolarizationArg, Quality, Spectral};
+use crate::render::blocks::SampleRange;
 use crate::render::film::Film;
 use crate::render::integrator::{Stats, TreeSettings};
 use crate::render::output::{develop, OutputMode};
+use crate::render::region::{self, Rect, TileSpec};
 use crate::render::{render_part, Control, Outcome, PartSpec, RenderOptions, TileData, TILE};
 use crate::scene::{builtin, Scene};
 use crate::spectrum::WavelengthSet;

@@ -10,12 +10,12 @@ use super::render::{
 };
 use super::CliError;
 use crate::accel::AccelKind;
-use crate::farm::blocks::SampleRange;
 use crate::farm::part::scene_hash;
-use crate::farm::region::Rect;
 use crate::image::{self, Image, PixelType, WriteOptions};
+use crate::render::blocks::SampleRange;
 use crate::render::film::Film;
 use crate::render::output::{develop, OutputMode};
+use crate::render::region::Rect;
 use crate::render::{render_part, Control, Outcome, PartSpec};
 use crate::scene::Scene;
 use crate::spectrum::WavelengthSet;

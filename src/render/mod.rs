@@ -1,30 +1,33 @@
 //! The renderer: camera, deterministic sampling, the backward ray-tree
-//! integrator, the film, and the maps that turn a film into images.
+//! integrator, the film, the summation order and pixel regions, and the
+//! maps that turn a film into images.
 //!
 //! The driver renders one unit of work ([`PartSpec`]: a pixel rectangle
-//! and a block of samples) by 16×16 tiles spread over rayon's threads.
-//! Every random number is a pure function of (seed, pixel, sample,
-//! dimension) ([`sampling`]), each pixel adds only its own samples, and it
-//! adds them in the tree order of [`crate::farm::blocks`]: no value
+//! ([`region`]) and a block of samples) by 16×16 tiles spread over rayon's
+//! threads. Every random number is a pure function of (seed, pixel,
+//! sample, dimension) ([`sampling`]), each pixel adds only its own
+//! samples, and it adds them in the tree order of [`blocks`]: no value
 //! depends on the thread count, the tile size, the region or the sample
 //! blocks a render is split into.
 
 pub mod approx;
+pub mod blocks;
 pub mod camera;
 pub mod film;
 pub mod integrator;
 pub mod output;
+pub mod region;
 pub mod sampling;
 
 use crate::accel::Intersector;
-use crate::farm::blocks::{Accumulator, Node, SampleRange};
-use crate::farm::region::Rect;
 use crate::optics::Coherence;
 use crate::scene::Scene;
 use approx::{Approximations, DispersionMode};
+use blocks::{Accumulator, Node, SampleRange};
 use film::Film;
 use integrator::{Stats, Tracer, TreeSettings, WavelengthMedia};
 use rayon::prelude::*;
+use region::Rect;
 use sampling::{dim, SampleKey};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
