@@ -4,8 +4,8 @@
 
 mod common;
 use common::*;
+use spar::render::approx::Branching;
 use spar::render::approx::{DispersionMode, Spectral, NO_DISPERSION_NM};
-use spar::render::integrator::Branching;
 
 /// A gem of `medium` over a textured, polarized light, seen at an angle.
 fn gem(medium: &str, axis: &str, resolution: u32, samples: u32) -> String {

@@ -6,9 +6,8 @@
 mod common;
 use glam::DVec3;
 use spar::optics::Coherence;
-use spar::render::integrator::{
-    Branching, PolarizationModel, Stats, Strategy, Tracer, TreeSettings, WavelengthMedia,
-};
+use spar::render::approx::{Branching, PolarizationModel, Strategy};
+use spar::render::integrator::{Stats, Tracer, TreeSettings, WavelengthMedia};
 use spar::render::sampling::SampleKey;
 
 fn gem_scene(medium: &str, axis: &str) -> (spar::scene::Scene, tempfile::TempDir) {

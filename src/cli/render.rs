@@ -9,11 +9,12 @@ use crate::farm::checkpoint;
 use crate::farm::part::{part_image, RenderInfo};
 use crate::farm::progress::{ProgressMode, Reporter};
 use crate::image::{PixelType, WriteOptions};
-use crate::render::approx::{self, BranchingArg, PolarizationArg, Quality, Spectral};
+use crate::render::approx::{self, BranchingArg, PolarizationArg, Spectral};
 use crate::render::blocks::SampleRange;
 use crate::render::film::Film;
 use crate::render::integrator::{Stats, TreeSettings};
 use crate::render::output::{develop, OutputMode};
+use crate::render::quality::Quality;
 use crate::render::region::{self, Rect, TileSpec};
 use crate::render::{render_part, Control, Outcome, PartSpec, RenderOptions, TileData, TILE};
 use crate::scene::{builtin, Scene};
@@ -241,7 +242,7 @@ impl SceneOverrides {
     pub fn apply_with_block(&self, scene: &mut Scene) -> Result<Option<SampleRange>, CliError> {
         let input = CliError::Input;
         if let Some(q) = self.quality {
-            q.apply(scene);
+            q.apply(&mut scene.settings);
         }
         if let Some(b) = self.branching {
             scene.settings.approx.strategy.branching = b.0;

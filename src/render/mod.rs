@@ -15,13 +15,15 @@ pub mod blocks;
 pub mod camera;
 pub mod film;
 pub mod integrator;
+pub mod light;
 pub mod output;
+pub mod quality;
 pub mod region;
 pub mod sampling;
+pub mod world;
 
 use crate::accel::Intersector;
 use crate::optics::Coherence;
-use crate::scene::Scene;
 use approx::{Approximations, DispersionMode};
 use blocks::{Accumulator, Node, SampleRange};
 use film::Film;
@@ -31,6 +33,7 @@ use region::Rect;
 use sampling::{dim, SampleKey};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
+use world::Scene;
 
 /// Side of the square tiles rayon distributes.
 pub const TILE: u32 = 16;
