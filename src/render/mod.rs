@@ -17,6 +17,7 @@ pub mod film;
 pub mod integrator;
 pub mod light;
 pub mod output;
+pub mod prepare;
 pub mod quality;
 pub mod region;
 pub mod sampling;
@@ -81,7 +82,7 @@ impl RenderOptions {
 fn geometry_groups(scene: &Scene, opts: &RenderOptions) -> Vec<(Vec<usize>, Vec<WavelengthMedia>)> {
     let mut groups: Vec<(Vec<usize>, Vec<WavelengthMedia>)> = Vec::new();
     // A single-wavelength mode's wavelength, if any, is the entry right
-    // after the leading colour ones (cli::render::lambdas_for); it may
+    // after the leading colour ones ([`prepare::lambdas`]); it may
     // also be a colour wavelength, as may the entries after it.
     let mono = opts.colour_lambdas;
     // The colour range, which dispersion bands divide.
