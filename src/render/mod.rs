@@ -1,6 +1,9 @@
-//! The renderer: camera, deterministic sampling, the backward ray-tree
-//! integrator, the film, the summation order and pixel regions, and the
-//! maps that turn a film into images.
+//! The renderer: what it renders ([`world`]: the scene, [`light`]: its
+//! lights), the camera, deterministic sampling, the backward ray-tree
+//! integrator and its approximations ([`approx`], presets in [`quality`]),
+//! the film, the summation order and pixel regions, the maps that turn a
+//! film into images, and [`prepare`], from a scene to what rendering it
+//! takes.
 //!
 //! The driver renders one unit of work ([`PartSpec`]: a pixel rectangle
 //! ([`region`]) and a block of samples) by 16×16 tiles spread over rayon's
