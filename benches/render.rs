@@ -10,10 +10,11 @@
 //! more: rerun before quoting).
 
 use spar::accel::AccelKind;
-use spar::cli::render::render_film;
 use spar::render::output::OutputMode;
+use spar::render::{prepare, render};
 use spar::scene::Scene;
 use std::path::Path;
+use std::time::Instant;
 
 fn main() {
     let sizes: Vec<u32> = std::env::var("SPAR_BENCH_SIZES")
@@ -40,20 +41,23 @@ fn main() {
             let mut scene =
                 Scene::load(&dir.join(format!("{name}.toml"))).expect("seed scene loads");
             scene.camera = scene.camera.clone().with_resolution(*size, *size);
-            let done =
-                render_film(&scene, &[OutputMode::Color], 580.0, 0, false, accel).expect("render");
-            let secs = done.render_time.as_secs_f64();
+            let built = prepare::accel(&scene, accel, rayon::current_num_threads(), None)
+                .expect("the seed scene's intersector builds");
+            let options = prepare::options(&scene, &[OutputMode::Color], 580.0, false);
+            let t0 = Instant::now();
+            let (_, stats) = render(&scene, built.as_ref(), &options);
+            let secs = t0.elapsed().as_secs_f64();
             let camera_rays =
-                (*size as u64).pow(2) * scene.samples as u64 * done.options.lambdas.len() as u64;
+                (*size as u64).pow(2) * scene.samples as u64 * options.lambdas.len() as u64;
             println!(
                 "| {name} | {size}² | {} | {} | {:e} | {secs:.2} | {} | {:.2} | {} | {:.1} |",
                 scene.samples,
                 scene.settings.max_depth,
                 scene.settings.prune,
-                done.stats.rays,
-                done.stats.rays as f64 / secs / 1e6,
-                done.stats.nodes,
-                done.stats.nodes as f64 / camera_rays as f64
+                stats.rays,
+                stats.rays as f64 / secs / 1e6,
+                stats.nodes,
+                stats.nodes as f64 / camera_rays as f64
             );
         }
     }

@@ -7,14 +7,16 @@ mod farm_common;
 
 use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
-use spar::farm::blocks::SampleRange;
+use spar::accel::AccelKind;
 use spar::farm::checkpoint;
 use spar::farm::merge::merge;
 use spar::farm::part::{part_image, read_part, RenderInfo};
-use spar::farm::region::Rect;
+use spar::render::blocks::SampleRange;
 use spar::render::film::Film;
-use spar::render::integrator::TreeSettings;
-use spar::render::{render, render_part, Control, Outcome, PartSpec, RawPart, RenderOptions};
+use spar::render::region::Rect;
+use spar::render::{
+    prepare, render, render_part, Control, Outcome, PartSpec, RawPart, RenderOptions,
+};
 use spar::scene::Scene;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -26,18 +28,7 @@ fn setup() -> (Scene, RenderOptions, tempfile::TempDir) {
     let dir = tempfile::tempdir().unwrap();
     farm_common::write_scene(dir.path(), W, H, SAMPLES);
     let scene = Scene::load(&dir.path().join("scene.toml")).unwrap();
-    let opts = RenderOptions {
-        lambdas: scene.settings.wavelengths.lambdas().to_vec(),
-        tree: TreeSettings {
-            max_depth: scene.settings.max_depth,
-            prune: scene.settings.prune,
-        },
-        samples: scene.samples,
-        seed: scene.settings.seed,
-        progress: false,
-        approx: scene.settings.approx,
-        colour_lambdas: usize::MAX,
-    };
+    let opts = prepare::options_at(&scene, scene.settings.wavelengths.lambdas().to_vec());
     (scene, opts, dir)
 }
 
@@ -46,7 +37,7 @@ fn part(scene: &Scene, opts: &RenderOptions, spec: PartSpec, threads: usize, til
         .num_threads(threads)
         .build()
         .unwrap();
-    let accel = spar::cli::render::build_accel(scene, threads).unwrap();
+    let accel = prepare::accel(scene, AccelKind::default(), threads, None).unwrap();
     let control = Control {
         tile_size: tile,
         ..Control::default()
@@ -71,7 +62,7 @@ fn thread_counts_and_tile_sizes_change_no_bit() {
     let whole = PartSpec::whole(W, H, SAMPLES);
     let reference = part(&scene, &opts, whole, 2, 16);
     // The library's one-machine render is the same render.
-    let accel = spar::cli::render::build_accel(&scene, 2).unwrap();
+    let accel = prepare::accel(&scene, AccelKind::default(), 2, None).unwrap();
     let (film, _) = render(&scene, accel.as_ref(), &opts);
     assert_eq!(film_bits(&film), bits(&reference.data));
     assert!(
@@ -200,7 +191,7 @@ fn a_stopped_and_resumed_render_equals_an_uninterrupted_one() {
     let (scene, opts, dir) = setup();
     let whole = PartSpec::whole(W, H, SAMPLES);
     let reference = part(&scene, &opts, whole, 2, 8);
-    let accel = spar::cli::render::build_accel(&scene, 2).unwrap();
+    let accel = prepare::accel(&scene, AccelKind::default(), 2, None).unwrap();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(2)
         .build()

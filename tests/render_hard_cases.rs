@@ -8,18 +8,11 @@
 mod common;
 use common::*;
 use glam::{DMat3, DVec3};
-use spar::render::integrator::{Stats, Tracer, TreeSettings, WavelengthMedia};
+use spar::render::integrator::{Stats, Tracer, WavelengthMedia};
 
 fn stokes_of(scene: &spar::scene::Scene, eye: DVec3, dir: DVec3, lambda: f64) -> [f64; 4] {
-    let accel = spar::cli::render::build_accel(scene, 1).unwrap();
-    let tracer = Tracer::new(
-        scene,
-        accel.as_ref(),
-        TreeSettings {
-            max_depth: scene.settings.max_depth,
-            prune: scene.settings.prune,
-        },
-    );
+    let accel = spar::render::prepare::accel(scene, Default::default(), 1, None).unwrap();
+    let tracer = Tracer::new(scene, accel.as_ref(), spar::render::prepare::tree(scene));
     let media = WavelengthMedia::new(scene, lambda);
     let x = dir.any_orthonormal_vector();
     let y = x.cross(dir);

@@ -4,8 +4,8 @@
 
 mod common;
 use common::*;
+use spar::render::approx::Branching;
 use spar::render::approx::{DispersionMode, Spectral, NO_DISPERSION_NM};
-use spar::render::integrator::Branching;
 
 /// A gem of `medium` over a textured, polarized light, seen at an angle.
 fn gem(medium: &str, axis: &str, resolution: u32, samples: u32) -> String {
@@ -119,13 +119,13 @@ fn dispersion_bands_leave_a_single_wavelength_mode_on_its_own_paths() {
     use spar::render::output::OutputMode;
     let axis = "optic_axis = [0.3, 0.2, 1.0]";
     let (mut scene, _d) = scene(&gem("calcite", axis, 8, 1), &[]);
-    let accel = spar::cli::render::build_accel_kind(&scene, 2, Default::default(), None).unwrap();
+    let accel = spar::render::prepare::accel(&scene, Default::default(), 2, None).unwrap();
     // Five colour wavelengths in two bands, and 437 nm for a DoP image.
     scene.settings.wavelengths =
         spar::spectrum::WavelengthSet::from_list(&[400.0, 425.0, 450.0, 475.0, 500.0]).unwrap();
     scene.settings.approx.dispersion = DispersionMode::Bands(2);
     let opts =
-        spar::cli::render::options_for(&scene, &[OutputMode::Color, OutputMode::Dop], 437.0, false);
+        spar::render::prepare::options(&scene, &[OutputMode::Color, OutputMode::Dop], 437.0, false);
     assert_eq!(opts.lambdas[5], 437.0);
     let (banded, _) = spar::render::render(&scene, accel.as_ref(), &opts);
     scene.settings.approx.dispersion = DispersionMode::On;
@@ -144,11 +144,11 @@ fn dispersion_bands_with_colour_and_dop_trace_a_tree_per_band_and_one_for_dop() 
     use spar::render::output::OutputMode;
     let axis = "optic_axis = [0.3, 0.2, 1.0]";
     let (mut scene, _d) = scene(&gem("calcite", axis, 8, 1), &[]);
-    let accel = spar::cli::render::build_accel_kind(&scene, 2, Default::default(), None).unwrap();
+    let accel = spar::render::prepare::accel(&scene, Default::default(), 2, None).unwrap();
     let modes = [OutputMode::Color, OutputMode::Dop];
     let mut run = |d: DispersionMode| {
         scene.settings.approx.dispersion = d;
-        let opts = spar::cli::render::options_for(&scene, &modes, 580.0, false);
+        let opts = spar::render::prepare::options(&scene, &modes, 580.0, false);
         let (film, stats) = spar::render::render(&scene, accel.as_ref(), &opts);
         let dop = opts.lambdas.iter().position(|&l| l == 580.0).unwrap();
         (film, stats.rays, dop)

@@ -6,9 +6,8 @@
 mod common;
 use glam::DVec3;
 use spar::optics::Coherence;
-use spar::render::integrator::{
-    Branching, PolarizationModel, Stats, Strategy, Tracer, TreeSettings, WavelengthMedia,
-};
+use spar::render::approx::{Branching, PolarizationModel, Strategy};
+use spar::render::integrator::{Stats, Tracer, TreeSettings, WavelengthMedia};
 use spar::render::sampling::SampleKey;
 
 fn gem_scene(medium: &str, axis: &str) -> (spar::scene::Scene, tempfile::TempDir) {
@@ -87,7 +86,7 @@ fn sampled_mean(
 fn stochastic_and_hybrid_branching_are_unbiased() {
     for (medium, axis) in [("n-bk7", ""), ("calcite", "optic_axis = [0.3, 0.5, 0.8]")] {
         let (scene, _d) = gem_scene(medium, axis);
-        let accel = spar::cli::render::build_accel(&scene, 1).unwrap();
+        let accel = spar::render::prepare::accel(&scene, Default::default(), 1, None).unwrap();
         let settings = TreeSettings {
             max_depth: 12,
             prune: 0.0,
@@ -134,7 +133,7 @@ fn a_shared_geometry_batch_equals_per_wavelength_trees() {
     ] {
         let (scene, _d) = gem_scene(medium, axis);
         assert!(!scene.is_dispersive());
-        let accel = spar::cli::render::build_accel(&scene, 1).unwrap();
+        let accel = spar::render::prepare::accel(&scene, Default::default(), 1, None).unwrap();
         let tracer = Tracer::new(
             &scene,
             accel.as_ref(),
@@ -183,7 +182,7 @@ fn a_shared_geometry_batch_equals_per_wavelength_trees() {
 #[test]
 fn scalar_transport_is_unpolarized_and_exact_without_interfaces() {
     let (scene, _d) = gem_scene("n-bk7", "");
-    let accel = spar::cli::render::build_accel(&scene, 1).unwrap();
+    let accel = spar::render::prepare::accel(&scene, Default::default(), 1, None).unwrap();
     let settings = TreeSettings {
         max_depth: 12,
         prune: 0.0,

@@ -4,8 +4,8 @@
 use super::render::{check_isa, AccelArgs, SamplesArg, SceneOverrides};
 use super::CliError;
 use crate::farm::plan::Plan;
-use crate::farm::region;
 use crate::render::output::OutputMode;
+use crate::render::region;
 use crate::scene::Scene;
 use std::io::Write;
 use std::path::{Path, PathBuf};

@@ -4,17 +4,19 @@
 //! `--raw`; see docs/farm.md).
 
 use super::CliError;
-use crate::accel::{AccelKind, Intersector, TriangleMesh};
-use crate::farm::blocks::SampleRange;
+use crate::accel::AccelKind;
 use crate::farm::checkpoint;
 use crate::farm::part::{part_image, RenderInfo};
 use crate::farm::progress::{ProgressMode, Reporter};
-use crate::farm::region::{self, Rect, TileSpec};
 use crate::image::{PixelType, WriteOptions};
-use crate::render::approx::{self, BranchingArg, PolarizationArg, Quality, Spectral};
+use crate::render::approx::{self, BranchingArg, PolarizationArg, Spectral};
+use crate::render::blocks::SampleRange;
 use crate::render::film::Film;
-use crate::render::integrator::{Stats, TreeSettings};
+use crate::render::integrator::Stats;
 use crate::render::output::{develop, OutputMode};
+use crate::render::prepare::{self, PrepareError};
+use crate::render::quality::Quality;
+use crate::render::region::{self, Rect, TileSpec};
 use crate::render::{render_part, Control, Outcome, PartSpec, RenderOptions, TileData, TILE};
 use crate::scene::{builtin, Scene};
 use crate::spectrum::WavelengthSet;
@@ -241,7 +243,7 @@ impl SceneOverrides {
     pub fn apply_with_block(&self, scene: &mut Scene) -> Result<Option<SampleRange>, CliError> {
         let input = CliError::Input;
         if let Some(q) = self.quality {
-            q.apply(scene);
+            q.apply(&mut scene.settings);
         }
         if let Some(b) = self.branching {
             scene.settings.approx.strategy.branching = b.0;
@@ -482,69 +484,6 @@ pub struct Rendered {
     pub render_time: std::time::Duration,
 }
 
-/// The wavelengths `modes` need: the scene's colour wavelengths for the
-/// spectral modes, `mono_nm` for the others.
-///
-/// The colour set comes first: [`options_for`] counts it as the set hero
-/// sampling thins out. With hero sampling, a single-wavelength mode's
-/// wavelength that is also in the colour set is moved to the end, so it is
-/// traced for every sample (and the colour modes use it at weight 1).
-pub fn lambdas_for(scene: &Scene, modes: &[OutputMode], mono_nm: f64) -> Vec<f64> {
-    let same = |a: f64, b: f64| (a - b).abs() < 1e-9;
-    let mono = modes.iter().any(|m| !m.is_spectral());
-    let hero = scene.settings.approx.spectral != Spectral::All;
-    let mut lambdas: Vec<f64> = Vec::new();
-    if modes.iter().any(|m| m.is_spectral()) {
-        lambdas.extend(
-            scene
-                .settings
-                .wavelengths
-                .lambdas()
-                .iter()
-                .filter(|&&l| !(mono && hero && same(l, mono_nm))),
-        );
-    }
-    if mono && !lambdas.iter().any(|&l| same(l, mono_nm)) {
-        lambdas.push(mono_nm);
-    }
-    lambdas
-}
-
-/// The render options `spar render` uses for a scene and its modes: the
-/// colour wavelengths first, a single-wavelength mode's right after them.
-pub fn options_for(
-    scene: &Scene,
-    modes: &[OutputMode],
-    mono_nm: f64,
-    progress: bool,
-) -> RenderOptions {
-    let lambdas = lambdas_for(scene, modes, mono_nm);
-    let colour = scene.settings.wavelengths.lambdas();
-    let mono = modes.iter().any(|m| !m.is_spectral());
-    let same = |a: f64, b: f64| (a - b).abs() < 1e-9;
-    RenderOptions {
-        // The colour set leads the list, a single-wavelength mode's
-        // wavelength after it (lambdas_for).
-        colour_lambdas: if modes.iter().any(|m| m.is_spectral()) {
-            lambdas
-                .iter()
-                .take_while(|&&l| colour.iter().any(|&c| same(c, l)) && !(mono && same(l, mono_nm)))
-                .count()
-        } else {
-            0
-        },
-        approx: scene.settings.approx,
-        lambdas,
-        tree: TreeSettings {
-            max_depth: scene.settings.max_depth,
-            prune: scene.settings.prune,
-        },
-        samples: scene.samples,
-        seed: scene.settings.seed,
-        progress,
-    }
-}
-
 /// Refuses rendered values that are not finite (no NaN pixel is ever
 /// written): an internal error, never the input's fault.
 pub(crate) fn check_finite<'a>(values: impl IntoIterator<Item = &'a f32>) -> Result<(), CliError> {
@@ -621,7 +560,7 @@ pub fn render_film(
     accel: AccelKind,
 ) -> Result<Rendered, CliError> {
     let (w, h) = (scene.camera.width, scene.camera.height);
-    let n = lambdas_for(scene, modes, mono_nm).len();
+    let n = prepare::lambdas(scene, modes, mono_nm).len();
     check_film_memory(
         w as u64 * h as u64,
         n,
@@ -630,9 +569,9 @@ pub fn render_film(
     )?;
     let pool = thread_pool(threads)?;
     let t0 = Instant::now();
-    let accel = build_accel_kind(scene, pool.current_num_threads(), accel, None)?;
+    let accel = prepare::accel(scene, accel, pool.current_num_threads(), None)?;
     let accel_time = t0.elapsed();
-    let options = options_for(scene, modes, mono_nm, progress);
+    let options = prepare::options(scene, modes, mono_nm, progress);
     let t1 = Instant::now();
     let (film, stats) = pool.install(|| crate::render::render(scene, accel.as_ref(), &options));
     let render_time = t1.elapsed();
@@ -651,44 +590,18 @@ pub fn render_film(
     })
 }
 
-/// Builds this build's default backend ([`AccelKind::default`]) for a
-/// scene's objects.
-pub fn build_accel(scene: &Scene, threads: usize) -> Result<Box<dyn Intersector>, CliError> {
-    build_accel_kind(scene, threads, AccelKind::default(), None)
-}
-
-/// Builds the `kind` backend for a scene's objects on `threads` threads;
-/// `isa` pins Embree's instruction set (a name [`check_isa`] accepted).
-/// A backend this build lacks, or an ISA for another backend than Embree,
-/// is an input error ([`check_accel`]).
-pub fn build_accel_kind(
-    scene: &Scene,
-    threads: usize,
-    kind: AccelKind,
-    isa: Option<&str>,
-) -> Result<Box<dyn Intersector>, CliError> {
-    check_accel(kind, isa)?;
-    let verts: Vec<Vec<[f32; 3]>> = scene
-        .objects
-        .iter()
-        .map(|o| o.mesh.vertices_f32())
-        .collect();
-    let meshes: Vec<TriangleMesh> = scene
-        .objects
-        .iter()
-        .zip(&verts)
-        .map(|(o, v)| TriangleMesh {
-            vertices: v,
-            triangles: &o.mesh.triangles,
-        })
-        .collect();
-    let fail = |e: crate::accel::AccelError| CliError::Failed(e.to_string());
-    match (kind, isa) {
-        #[cfg(feature = "native")]
-        (AccelKind::Embree, Some(isa)) => Ok(Box::new(
-            crate::accel::embree::EmbreeAccel::build(&meshes, threads, Some(isa)).map_err(fail)?,
-        )),
-        _ => crate::accel::build(kind, &meshes, threads).map_err(fail),
+/// A render that cannot be prepared: a backend this build lacks, or an
+/// ISA for another backend than Embree, is an input error (exit status 2;
+/// [`check_accel`] refuses both first); a backend that refuses the meshes
+/// a failure (exit status 1).
+impl From<PrepareError> for CliError {
+    fn from(e: PrepareError) -> CliError {
+        match e {
+            PrepareError::Unavailable(_) | PrepareError::IsaNotEmbree { .. } => {
+                CliError::Input(e.to_string())
+            }
+            PrepareError::Build(_) => CliError::Failed(e.to_string()),
+        }
     }
 }
 
@@ -708,7 +621,7 @@ fn film_what(
         Some(_) => format!("--resolution {w}x{h}"),
         None => format!("{file}: camera.resolution [{w}, {h}]"),
     };
-    let n = lambdas_for(scene, modes, mono_nm).len();
+    let n = prepare::lambdas(scene, modes, mono_nm).len();
     let lambdas = match &o.wavelengths {
         Some(s) => format!("--wavelengths {s} ({n} traced)"),
         None => format!("{file}: render.wavelengths ({n} traced)"),
@@ -905,7 +818,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let spec = PartSpec { region, samples };
     check_film_memory(
         spec.region.area() as u64,
-        lambdas_for(&scene, &modes, args.wavelength).len(),
+        prepare::lambdas(&scene, &modes, args.wavelength).len(),
         spec.samples.nodes().len(),
         &film_what(
             &scene,
@@ -940,7 +853,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         .scene
         .as_ref()
         .map_or("(default scene)".into(), |p| p.display().to_string());
-    let lambdas = lambdas_for(&scene, &modes, args.wavelength);
+    let lambdas = prepare::lambdas(&scene, &modes, args.wavelength);
     let mut info = RenderInfo::new(
         &scene,
         &scene_label,
@@ -960,7 +873,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         farm.progress
     };
     let reporter = Reporter::new(progress_mode);
-    let options = options_for(&scene, &modes, args.wavelength, reporter.wants_bar());
+    let options = prepare::options(&scene, &modes, args.wavelength, reporter.wants_bar());
     debug_assert_eq!(options.lambdas, lambdas);
 
     // Checkpoint: named after the output; valid only for this render,
@@ -1008,10 +921,10 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let threads = args.threads.unwrap_or(0);
     let pool = thread_pool(threads)?;
     let t_accel = Instant::now();
-    let accel = build_accel_kind(
+    let accel = prepare::accel(
         &scene,
-        pool.current_num_threads(),
         accel_kind,
+        pool.current_num_threads(),
         farm.isa.as_deref(),
     )?;
     let t_accel = t_accel.elapsed();

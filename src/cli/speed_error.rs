@@ -5,17 +5,16 @@
 //! error against time with the Pareto front marked
 //! (docs/speed-vs-error.md).
 
-use super::render::{
-    build_accel_kind, render_film, AccelArgs, Rendered, SamplesArg, SceneOverrides,
-};
+use super::render::{render_film, AccelArgs, Rendered, SamplesArg, SceneOverrides};
 use super::CliError;
 use crate::accel::AccelKind;
-use crate::farm::blocks::SampleRange;
 use crate::farm::part::scene_hash;
-use crate::farm::region::Rect;
 use crate::image::{self, Image, PixelType, WriteOptions};
+use crate::render::blocks::SampleRange;
 use crate::render::film::Film;
 use crate::render::output::{develop, OutputMode};
+use crate::render::prepare;
+use crate::render::region::Rect;
 use crate::render::{render_part, Control, Outcome, PartSpec};
 use crate::scene::Scene;
 use crate::spectrum::WavelengthSet;
@@ -397,8 +396,8 @@ fn render_rows(
 ) -> Result<(Film, f64), CliError> {
     let pool = super::render::thread_pool(threads)?;
     let t0 = std::time::Instant::now();
-    let accel = build_accel_kind(scene, pool.current_num_threads(), accel, None)?;
-    let options = super::render::options_for(scene, modes, mono_nm, false);
+    let accel = prepare::accel(scene, accel, pool.current_num_threads(), None)?;
+    let options = prepare::options(scene, modes, mono_nm, false);
     let w = scene.camera.width;
     let mut data = Vec::new();
     for &y in rows {
@@ -648,7 +647,7 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
     // The reference: the scene's wavelengths (a colour set of the sweep
     // may be smaller; images are compared after developing).
     let colour = ref_scene.settings.wavelengths.clone();
-    let lambdas = super::render::lambdas_for(&ref_scene, &modes, args.wavelength);
+    let lambdas = prepare::lambdas(&ref_scene, &modes, args.wavelength);
     let identity = reference_identity(&scene, &ref_config, &lambdas, args.error_rows, args.paired);
     let rows = error_rows(ref_scene.camera.height, args.error_rows);
     let whole = args.error_rows == 1;

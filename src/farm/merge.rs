@@ -6,14 +6,14 @@
 //! the sample blocks of the parts covering it must tile `0..S` — an
 //! overlap or a gap is an error naming the pixels and samples. Each
 //! pixel's stored tree nodes are then added in the order of
-//! [`super::blocks`], which gives the bits a one-machine render gives.
+//! [`crate::render::blocks`], which gives the bits a one-machine render gives.
 //! Merging is generic over channels: whatever raw channels the parts list
 //! (`spar:channels`), each is summed the same way.
 
-use super::blocks::{Accumulator, Node, SampleRange};
 use super::part::LoadedPart;
-use super::region::Rect;
 use super::MergeError;
+use crate::render::blocks::{Accumulator, Node, SampleRange};
+use crate::render::region::Rect;
 
 /// The merged whole: every pixel, every sample, one tree node.
 #[derive(Clone, Debug)]

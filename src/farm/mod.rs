@@ -1,9 +1,6 @@
 //! Render farms: units of work, raw parts, merging, checkpoints, progress
 //! lines and job scripts. See `docs/farm.md` for the user's view.
 //!
-//! - [`blocks`]: sample blocks and the fixed tree order of every pixel's
-//!   sum (why merged parts equal a one-machine render bit for bit).
-//! - [`region`]: pixel rectangles and the `--tile I/N` split.
 //! - [`part`]: the render's identity and raw EXR parts.
 //! - [`exr`]: an EXR header reader (sample types, compression, windows).
 //! - [`merge`]: parts into the whole, with named errors.
@@ -12,7 +9,6 @@
 //! - [`progress`]: plain and OpenJD progress lines on stdout.
 //! - [`plan`]: Slurm and OpenJD job scripts.
 
-pub mod blocks;
 pub mod checkpoint;
 pub mod exr;
 pub mod memory;
@@ -20,7 +16,6 @@ pub mod merge;
 pub mod part;
 pub mod plan;
 pub mod progress;
-pub mod region;
 
 use std::path::PathBuf;
 

@@ -26,12 +26,12 @@
 //! is an image of its region's size and `spar:region` places it. A file
 //! with a real data window is accepted when the window agrees.
 
-use super::blocks::{Node, SampleRange};
 use super::exr::{self, SampleType};
-use super::region::Rect;
 use super::MergeError;
 use crate::image::Image;
+use crate::render::blocks::{Node, SampleRange};
 use crate::render::film::Film;
+use crate::render::region::Rect;
 use crate::render::{PartSpec, RawPart};
 use crate::scene::Scene;
 use crate::spectrum::WavelengthSet;

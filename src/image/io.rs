@@ -1,29 +1,12 @@
-//! [`write`] and [`read`]: the checks every backend shares, atomic writes
-//! through a temporary file, and the choice of backend (OpenImageIO with the
-//! `native` feature, spar's pure-Rust codecs in [`super::pure`] without it).
+//! What every backend of [`super::write`] and [`super::read`] shares: the
+//! checks ([`write_with`], [`read_with`]) and atomic writes through a
+//! temporary file. [`super::backend`] chooses the backend.
 
 use super::{Cause, Encoding, Image, ImageError, WriteOptions};
 use std::ffi::OsString;
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
-
-/// Writes `image` to `path`, in the format its extension names, atomically
-/// (see the [module documentation](super)). The image's metadata is stored
-/// as string attributes where the format allows.
-///
-/// 8- and 16-bit outputs clamp values to `[0, 1]` and write NaN as 0; the
-/// values must already be in `options.encoding`.
-pub fn write(path: &Path, image: &Image, options: WriteOptions) -> Result<(), ImageError> {
-    write_with(backend::DEFAULT, path, image, options)
-}
-
-/// Reads `path` (first subimage, top MIP level): linear floats, the file's
-/// channel names and string metadata. See the [module documentation](super)
-/// for what is decoded.
-pub fn read(path: &Path) -> Result<Image, ImageError> {
-    read_with(backend::DEFAULT, path)
-}
 
 /// What [`write_with`] and [`read_with`] hand a file to. Errors are
 /// [`Cause::Backend`] for what the format or codec refused and
@@ -37,13 +20,13 @@ pub(super) struct Backend {
 }
 
 /// Metadata keys in OpenImageIO's own namespace (`oiio:`, any case):
-/// refused by [`write`], left out by the pure-Rust backend's reads.
+/// refused by [`super::write`], left out by the pure-Rust backend's reads.
 pub(super) fn is_reserved_key(key: &str) -> bool {
     key.get(..5)
         .is_some_and(|prefix| prefix.eq_ignore_ascii_case("oiio:"))
 }
 
-/// [`write`] through `backend`.
+/// [`super::write`] through `backend`.
 pub(super) fn write_with(
     backend: &Backend,
     path: &Path,
@@ -111,7 +94,7 @@ pub(super) fn write_with(
     temp.persist(path).map_err(|e| fail(Cause::Io(e)))
 }
 
-/// [`read`] through `backend`.
+/// [`super::read`] through `backend`.
 pub(super) fn read_with(backend: &Backend, path: &Path) -> Result<Image, ImageError> {
     let fail = |cause| ImageError::Read {
         path: path.to_path_buf(),
@@ -180,74 +163,6 @@ impl Drop for TempFile {
         if !self.persisted {
             // It may never have been created; nothing else to do either way.
             let _ = fs::remove_file(&self.path);
-        }
-    }
-}
-
-/// The one place that chooses the backend of [`write`] and [`read`].
-mod backend {
-    use super::Backend;
-
-    #[cfg(feature = "native")]
-    pub const DEFAULT: &Backend = &oiio::BACKEND;
-    #[cfg(not(feature = "native"))]
-    pub const DEFAULT: &Backend = &crate::image::pure::BACKEND;
-
-    /// OpenImageIO, through the shim in `spar-sys`.
-    #[cfg(feature = "native")]
-    mod oiio {
-        use crate::image::io::Backend;
-        use crate::image::{AlphaMode, Cause, Encoding, Image, PixelType, WriteOptions};
-        use crate::native::oiio;
-        use std::path::Path;
-
-        pub const BACKEND: Backend = Backend { write, read };
-
-        fn write(
-            path: &Path,
-            image: &Image,
-            pixels: &[f32],
-            options: WriteOptions,
-        ) -> Result<(), Cause> {
-            let metadata: Vec<(&str, &str)> = image
-                .metadata
-                .iter()
-                .map(|(k, v)| (k.as_str(), v.as_str()))
-                .collect();
-            oiio::write(&oiio::WriteRequest {
-                path,
-                width: image.width,
-                height: image.height,
-                channel_names: &image.channels,
-                pixels,
-                pixel_type: match options.pixel_type {
-                    PixelType::U8 => oiio::PixelType::U8,
-                    PixelType::U16 => oiio::PixelType::U16,
-                    PixelType::Half => oiio::PixelType::Half,
-                    PixelType::F32 => oiio::PixelType::F32,
-                },
-                alpha_channel: image.alpha_channel(),
-                unassociated_alpha: image.alpha == AlphaMode::Straight,
-                color_space: match options.encoding {
-                    Encoding::Linear => oiio::ColorSpace::Linear,
-                    Encoding::Srgb => oiio::ColorSpace::Srgb,
-                },
-                metadata: &metadata,
-            })
-            .map_err(|e| Cause::Backend(e.0))
-        }
-
-        fn read(path: &Path) -> Result<Image, Cause> {
-            let raw = oiio::read(path).map_err(|e| Cause::Backend(e.0))?;
-            let mut image = Image::new(raw.width, raw.height, raw.channel_names, raw.pixels)
-                .map_err(|e| Cause::Backend(e.to_string()))?;
-            image.alpha = if raw.unassociated_alpha {
-                AlphaMode::Straight
-            } else {
-                AlphaMode::Premultiplied
-            };
-            image.metadata = raw.metadata.into_iter().collect();
-            Ok(image)
         }
     }
 }

@@ -58,10 +58,12 @@
 //!
 //! Read back: [`read`] takes the first subimage, top MIP level, data window.
 
+mod backend;
 mod io;
 pub mod pure;
 
-pub use io::{draw_text, read, write};
+pub use backend::{read, write};
+pub use io::draw_text;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

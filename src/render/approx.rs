@@ -2,9 +2,9 @@
 //! samples (docs/speed-vs-error.md): branch strategy, polarization model,
 //! spectral sampling and dispersion. The default of each is exact; every
 //! other value is an approximation or an unbiased-but-noisy estimator that
-//! is used only when a flag, a scene file or a `--quality` preset asks.
+//! is used only when a flag, a scene file or a `--quality` preset
+//! ([`super::quality`]) asks.
 
-use super::integrator::{Branching, PolarizationModel, Strategy};
 use std::fmt;
 use std::str::FromStr;
 
@@ -12,6 +12,41 @@ use std::str::FromStr;
 /// the helium d line, where Abbe numbers (and "the" index of a glass) are
 /// quoted.
 pub const NO_DISPERSION_NM: f64 = 587.5618;
+
+/// How a node treats its feeders.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Branching {
+    /// Every feeder is traced: the exact tree (up to depth and pruning).
+    #[default]
+    Full,
+    /// One feeder is traced, chosen with probability proportional to the
+    /// most energy its Jones block can pass, its contribution divided by
+    /// that probability: unbiased, noisy, one path per camera ray.
+    Stochastic,
+    /// The full tree for the first `full_depth` interactions, one sampled
+    /// feeder per node below.
+    Hybrid { full_depth: u32 },
+}
+
+/// What the tree carries.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum PolarizationModel {
+    /// Coherence matrices (2×2 in isotropic media, intensities of
+    /// eigenwaves in crystals): the physics.
+    #[default]
+    Full,
+    /// Intensities only, every wave treated as unpolarized: each Jones block
+    /// T passes ‖T‖²_F / (its input modes) of the intensity. An
+    /// approximation whose error is measured, never chosen silently.
+    Scalar,
+}
+
+/// The integrator's strategy (defaults: the exact full tree).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Strategy {
+    pub branching: Branching,
+    pub polarization: PolarizationModel,
+}
 
 /// How the colour wavelengths are sampled.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -226,61 +261,6 @@ impl FromStr for Spectral {
                 )),
             },
         }
-    }
-}
-
-/// `--quality` presets, points of the measured speed-against-error front
-/// (docs/speed-vs-error.md). Each sets depth, pruning and the
-/// approximations; flags given with a preset override its values.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum Quality {
-    /// Previews: dispersion off (one tree for all wavelengths), depth 30,
-    /// pruning at 1e-3. Full branching and polarization: sampled branching
-    /// and scalar transport cost far more in DoP error than they save.
-    Draft,
-    /// The defaults: the exact tree at depth 30 with pruning at 1e-4.
-    Default,
-    /// For references: depth 30, pruning at 1e-6, nothing approximated.
-    Reference,
-}
-
-impl fmt::Display for Quality {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Quality::Draft => "draft",
-            Quality::Default => "default",
-            Quality::Reference => "reference",
-        })
-    }
-}
-
-impl Quality {
-    /// (max depth, pruning threshold, approximations) of the preset.
-    pub fn settings(self) -> (u32, f64, Approximations) {
-        match self {
-            Quality::Draft => (
-                30,
-                1e-3,
-                Approximations {
-                    dispersion: DispersionMode::Off,
-                    ..Approximations::default()
-                },
-            ),
-            Quality::Default => (
-                crate::scene::DEFAULT_MAX_DEPTH,
-                crate::scene::DEFAULT_PRUNE,
-                Approximations::default(),
-            ),
-            Quality::Reference => (30, 1e-6, Approximations::default()),
-        }
-    }
-
-    /// Sets the preset's values in a scene's render settings.
-    pub fn apply(self, scene: &mut crate::scene::Scene) {
-        let (depth, prune, approx) = self.settings();
-        scene.settings.max_depth = depth;
-        scene.settings.prune = prune;
-        scene.settings.approx = approx;
     }
 }
 

@@ -5,7 +5,7 @@
 //! count happens once, when a value is read.
 //!
 //! The sums are `f32`, added in the fixed tree order of
-//! [`crate::farm::blocks`], so a film merged from parts rendered anywhere
+//! [`super::blocks`], so a film merged from parts rendered anywhere
 //! holds the same bits as one rendered in one go.
 
 /// Per-pixel Stokes sums for a set of wavelengths.

@@ -39,8 +39,9 @@ use crate::accel::{Intersector, Ray};
 use crate::optics::backward::Feeders;
 use crate::optics::modes::{Side, WaveKind};
 use crate::optics::{Coherence, Interface, Jones, Medium};
+use crate::render::approx::{Branching, PolarizationModel, Strategy};
 use crate::render::sampling::{dim, SampleKey};
-use crate::scene::Scene;
+use crate::render::world::Scene;
 use glam::DVec3;
 
 /// The medium of air around every object.
@@ -251,41 +252,6 @@ pub struct TreeSettings {
     /// Skip a subtree when its contribution bound (throughput × brightest
     /// radiance) is below this fraction of the brightest radiance.
     pub prune: f64,
-}
-
-/// How a node treats its feeders.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum Branching {
-    /// Every feeder is traced: the exact tree (up to depth and pruning).
-    #[default]
-    Full,
-    /// One feeder is traced, chosen with probability proportional to the
-    /// most energy its Jones block can pass, its contribution divided by
-    /// that probability: unbiased, noisy, one path per camera ray.
-    Stochastic,
-    /// The full tree for the first `full_depth` interactions, one sampled
-    /// feeder per node below.
-    Hybrid { full_depth: u32 },
-}
-
-/// What the tree carries.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum PolarizationModel {
-    /// Coherence matrices (2×2 in isotropic media, intensities of
-    /// eigenwaves in crystals): the physics.
-    #[default]
-    Full,
-    /// Intensities only, every wave treated as unpolarized: each Jones block
-    /// T passes ‖T‖²_F / (its input modes) of the intensity. An
-    /// approximation whose error is measured, never chosen silently.
-    Scalar,
-}
-
-/// The integrator's strategy (defaults: the exact full tree).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub struct Strategy {
-    pub branching: Branching,
-    pub polarization: PolarizationModel,
 }
 
 /// Traces backward trees through one scene.

@@ -1,33 +1,43 @@
-//! The renderer: camera, deterministic sampling, the backward ray-tree
-//! integrator, the film, and the maps that turn a film into images.
+//! The renderer: what it renders ([`world`]: the scene, [`light`]: its
+//! lights), the camera, deterministic sampling, the backward ray-tree
+//! integrator and its approximations ([`approx`], presets in [`quality`]),
+//! the film, the summation order and pixel regions, the maps that turn a
+//! film into images, and [`prepare`], from a scene to what rendering it
+//! takes.
 //!
 //! The driver renders one unit of work ([`PartSpec`]: a pixel rectangle
-//! and a block of samples) by 16×16 tiles spread over rayon's threads.
-//! Every random number is a pure function of (seed, pixel, sample,
-//! dimension) ([`sampling`]), each pixel adds only its own samples, and it
-//! adds them in the tree order of [`crate::farm::blocks`]: no value
+//! ([`region`]) and a block of samples) by 16×16 tiles spread over rayon's
+//! threads. Every random number is a pure function of (seed, pixel,
+//! sample, dimension) ([`sampling`]), each pixel adds only its own
+//! samples, and it adds them in the tree order of [`blocks`]: no value
 //! depends on the thread count, the tile size, the region or the sample
 //! blocks a render is split into.
 
 pub mod approx;
+pub mod blocks;
 pub mod camera;
 pub mod film;
 pub mod integrator;
+pub mod light;
 pub mod output;
+pub mod prepare;
+pub mod quality;
+pub mod region;
 pub mod sampling;
+pub mod world;
 
 use crate::accel::Intersector;
-use crate::farm::blocks::{Accumulator, Node, SampleRange};
-use crate::farm::region::Rect;
 use crate::optics::Coherence;
-use crate::scene::Scene;
 use approx::{Approximations, DispersionMode};
+use blocks::{Accumulator, Node, SampleRange};
 use film::Film;
 use integrator::{Stats, Tracer, TreeSettings, WavelengthMedia};
 use rayon::prelude::*;
+use region::Rect;
 use sampling::{dim, SampleKey};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
+use world::Scene;
 
 /// Side of the square tiles rayon distributes.
 pub const TILE: u32 = 16;
@@ -75,7 +85,7 @@ impl RenderOptions {
 fn geometry_groups(scene: &Scene, opts: &RenderOptions) -> Vec<(Vec<usize>, Vec<WavelengthMedia>)> {
     let mut groups: Vec<(Vec<usize>, Vec<WavelengthMedia>)> = Vec::new();
     // A single-wavelength mode's wavelength, if any, is the entry right
-    // after the leading colour ones (cli::render::lambdas_for); it may
+    // after the leading colour ones ([`prepare::lambdas`]); it may
     // also be a colour wavelength, as may the entries after it.
     let mono = opts.colour_lambdas;
     // The colour range, which dispersion bands divide.

@@ -1,7 +1,7 @@
 //! Resources embedded in the binary, so that the default scene renders from
 //! any directory: `builtin:NAME` in a scene file's `mesh` or `texture`.
 
-use super::light::Texture;
+use crate::render::light::Texture;
 
 /// Names of the embedded meshes.
 pub const MESH_NAMES: &[&str] = &["trichecker12", "brilliant"];

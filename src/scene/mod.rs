@@ -1,6 +1,7 @@
-//! Scenes: the file format ([`file`]), and the validated scene the
-//! renderer reads (world-space meshes with their materials, lights, camera,
-//! settings). Every error names the file, the line and the field.
+//! Scenes: the file format ([`file`]), read and validated into the
+//! renderer's input, [`crate::render::world::Scene`] (world-space meshes
+//! with their materials, lights, camera, settings). Every error names the
+//! file, the line and the field.
 
 pub mod builtin;
 pub mod file;
@@ -8,11 +9,15 @@ pub mod light;
 
 use crate::geometry::Mesh;
 use crate::material::{Dispersion, Material};
+use crate::render::approx::{Approximations, BranchingArg, DispersionMode, PolarizationArg};
 use crate::render::camera::Camera;
+pub use crate::render::light::{Light, Polarization, Texture};
+pub use crate::render::world::{
+    Object, RenderSettings, Scene, DEFAULT_MAX_DEPTH, DEFAULT_PRUNE, DEFAULT_WAVELENGTHS,
+};
 use crate::spectrum::WavelengthSet;
 use file::{DispersionDef, DispersionModel, ScaleDef, SceneFile, TransformDef, WavelengthsDef};
 use glam::{DAffine3, DMat3, DVec3};
-pub use light::{Light, Polarization, Texture};
 use std::fmt;
 use std::path::Path;
 use toml::Spanned;
@@ -40,53 +45,6 @@ impl fmt::Display for SceneError {
 }
 
 impl std::error::Error for SceneError {}
-
-/// Render settings from the scene's `[render]` table.
-#[derive(Clone, Debug, PartialEq)]
-pub struct RenderSettings {
-    pub wavelengths: WavelengthSet,
-    pub max_depth: u32,
-    /// A subtree is skipped when it can contribute less than this fraction
-    /// of the brightest emitter's radiance; 0 disables pruning.
-    pub prune: f64,
-    pub seed: u64,
-    /// Branch strategy, polarization model, spectral sampling and
-    /// dispersion (exact by default).
-    pub approx: crate::render::approx::Approximations,
-}
-
-/// Defaults: 21 wavelengths, depth 30, pruning at 1e-4 of the brightest
-/// emitter, seed 0. Depth 30, not the seed paper's 13: at 512×512 depth 13
-/// loses 0.011 colour RMSE on the glass gem (light trapped by total
-/// internal reflection needs more bounces), depth 30 0.00002, for 9 % more
-/// rays; with pruning at 1e-4 deeper trees stay bounded
-/// (docs/speed-vs-error.md, "What each shortcut costs").
-pub const DEFAULT_WAVELENGTHS: usize = 21;
-pub const DEFAULT_MAX_DEPTH: u32 = 30;
-pub const DEFAULT_PRUNE: f64 = 1e-4;
-
-/// One solid object: a closed mesh in world space and its material (a
-/// crystal's optic axis already in world space).
-#[derive(Clone, Debug)]
-pub struct Object {
-    pub name: String,
-    pub mesh: Mesh,
-    pub material: Material,
-}
-
-/// A validated scene.
-#[derive(Clone, Debug)]
-pub struct Scene {
-    pub camera: Camera,
-    pub samples: u32,
-    pub settings: RenderSettings,
-    pub objects: Vec<Object>,
-    pub lights: Vec<Light>,
-    /// Unpolarized background radiance, in units of D65.
-    pub background: f64,
-    /// The scene file's text, for the render's identity.
-    pub source: String,
-}
 
 /// Turns byte offsets into line numbers for one file.
 struct Locator<'a> {
@@ -204,18 +162,18 @@ impl Scene {
                 );
             }
         }
-        let mut approx = crate::render::approx::Approximations::default();
+        let mut approx = Approximations::default();
         if let Some(b) = &r.branching {
             approx.strategy.branching = b
                 .get_ref()
-                .parse::<crate::render::approx::BranchingArg>()
+                .parse::<BranchingArg>()
                 .or_else(|e| loc.err(b.span(), "render.branching", e))?
                 .0;
         }
         if let Some(b) = &r.polarization {
             approx.strategy.polarization = b
                 .get_ref()
-                .parse::<crate::render::approx::PolarizationArg>()
+                .parse::<PolarizationArg>()
                 .or_else(|e| loc.err(b.span(), "render.polarization", e))?
                 .0;
         }
@@ -226,7 +184,6 @@ impl Scene {
                 .or_else(|e: String| loc.err(b.span(), "render.spectral", e))?;
         }
         if let Some(d) = &r.dispersion {
-            use crate::render::approx::DispersionMode;
             approx.dispersion = match d.get_ref() {
                 toml::Value::Boolean(true) => DispersionMode::On,
                 toml::Value::Boolean(false) => DispersionMode::Off,
@@ -358,27 +315,6 @@ impl Scene {
             background,
             source: text.to_string(),
         })
-    }
-
-    /// The brightest radiance any emitter or the background can send, in
-    /// units of D65. Nothing calls it: pruning compares a path's throughput
-    /// with the threshold directly, the brightest radiance cancelling from
-    /// both sides of its bound (docs/physics.md §5.3).
-    pub fn max_radiance(&self) -> f64 {
-        self.lights
-            .iter()
-            .map(|l| l.max_radiance())
-            .fold(self.background, f64::max)
-    }
-
-    /// True when some medium's index depends on wavelength.
-    pub fn is_dispersive(&self) -> bool {
-        self.objects.iter().any(|o| o.material.is_dispersive())
-    }
-
-    /// True when some object is a uniaxial crystal.
-    pub fn has_crystals(&self) -> bool {
-        self.objects.iter().any(|o| o.material.is_uniaxial())
     }
 }
 

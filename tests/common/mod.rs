@@ -5,8 +5,8 @@
 
 use spar::accel::AccelKind;
 use spar::render::film::Film;
-use spar::render::integrator::{Stats, TreeSettings};
-use spar::render::{render, RenderOptions};
+use spar::render::integrator::Stats;
+use spar::render::{prepare, render};
 use spar::scene::Scene;
 
 /// A scene from TOML text; `files` are (name, contents) written next to it.
@@ -62,19 +62,8 @@ pub fn render_at(scene: &Scene, lambdas: &[f64]) -> (Film, Stats) {
 /// Renders at the given wavelengths with the scene's settings through
 /// the `accel` backend.
 pub fn render_with(scene: &Scene, lambdas: &[f64], accel: AccelKind) -> (Film, Stats) {
-    let accel = spar::cli::render::build_accel_kind(scene, 2, accel, None).unwrap();
-    let opts = RenderOptions {
-        lambdas: lambdas.to_vec(),
-        tree: TreeSettings {
-            max_depth: scene.settings.max_depth,
-            prune: scene.settings.prune,
-        },
-        samples: scene.samples,
-        seed: scene.settings.seed,
-        progress: false,
-        approx: scene.settings.approx,
-        colour_lambdas: usize::MAX,
-    };
+    let accel = prepare::accel(scene, accel, 2, None).unwrap();
+    let opts = prepare::options_at(scene, lambdas.to_vec());
     render(scene, accel.as_ref(), &opts)
 }
 

@@ -1,0 +1,87 @@
+//! The one place that chooses the backend of [`write`] and [`read`]:
+//! OpenImageIO with the `native` feature, spar's pure-Rust codecs
+//! ([`super::pure`]) without it.
+
+use super::io::{self, Backend};
+use super::{Image, ImageError, WriteOptions};
+use std::path::Path;
+
+/// Writes `image` to `path`, in the format its extension names, atomically
+/// (see the [module documentation](super)). The image's metadata is stored
+/// as string attributes where the format allows.
+///
+/// 8- and 16-bit outputs clamp values to `[0, 1]` and write NaN as 0; the
+/// values must already be in `options.encoding`.
+pub fn write(path: &Path, image: &Image, options: WriteOptions) -> Result<(), ImageError> {
+    io::write_with(DEFAULT, path, image, options)
+}
+
+/// Reads `path` (first subimage, top MIP level): linear floats, the file's
+/// channel names and string metadata. See the [module documentation](super)
+/// for what is decoded.
+pub fn read(path: &Path) -> Result<Image, ImageError> {
+    io::read_with(DEFAULT, path)
+}
+
+#[cfg(feature = "native")]
+const DEFAULT: &Backend = &oiio::BACKEND;
+#[cfg(not(feature = "native"))]
+const DEFAULT: &Backend = &crate::image::pure::BACKEND;
+
+/// OpenImageIO, through the shim in `spar-sys`.
+#[cfg(feature = "native")]
+mod oiio {
+    use crate::image::io::Backend;
+    use crate::image::{AlphaMode, Cause, Encoding, Image, PixelType, WriteOptions};
+    use crate::native::oiio;
+    use std::path::Path;
+
+    pub const BACKEND: Backend = Backend { write, read };
+
+    fn write(
+        path: &Path,
+        image: &Image,
+        pixels: &[f32],
+        options: WriteOptions,
+    ) -> Result<(), Cause> {
+        let metadata: Vec<(&str, &str)> = image
+            .metadata
+            .iter()
+            .map(|(k, v)| (k.as_str(), v.as_str()))
+            .collect();
+        oiio::write(&oiio::WriteRequest {
+            path,
+            width: image.width,
+            height: image.height,
+            channel_names: &image.channels,
+            pixels,
+            pixel_type: match options.pixel_type {
+                PixelType::U8 => oiio::PixelType::U8,
+                PixelType::U16 => oiio::PixelType::U16,
+                PixelType::Half => oiio::PixelType::Half,
+                PixelType::F32 => oiio::PixelType::F32,
+            },
+            alpha_channel: image.alpha_channel(),
+            unassociated_alpha: image.alpha == AlphaMode::Straight,
+            color_space: match options.encoding {
+                Encoding::Linear => oiio::ColorSpace::Linear,
+                Encoding::Srgb => oiio::ColorSpace::Srgb,
+            },
+            metadata: &metadata,
+        })
+        .map_err(|e| Cause::Backend(e.0))
+    }
+
+    fn read(path: &Path) -> Result<Image, Cause> {
+        let raw = oiio::read(path).map_err(|e| Cause::Backend(e.0))?;
+        let mut image = Image::new(raw.width, raw.height, raw.channel_names, raw.pixels)
+            .map_err(|e| Cause::Backend(e.to_string()))?;
+        image.alpha = if raw.unassociated_alpha {
+            AlphaMode::Straight
+        } else {
+            AlphaMode::Premultiplied
+        };
+        image.metadata = raw.metadata.into_iter().collect();
+        Ok(image)
+    }
+}

@@ -1,0 +1,204 @@
+//! Rectangular one-sided area lights: emission spectrum (radiance scale ×
+//! texture spectrum × D65) and polarization (unpolarized, an ideal linear
+//! polarizer, or a virtual calcite plate that keeps one of its two waves).
+//! `spar::scene::light` reads them from scene files.
+
+use crate::optics::Coherence;
+use crate::spectrum::{cie, SigmoidSpectrum};
+use glam::DVec3;
+use num_complex::Complex64;
+use std::collections::HashMap;
+
+/// Which wave a virtual calcite plate keeps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PlateWave {
+    Ordinary,
+    Extraordinary,
+}
+
+/// The polarization of a light's emission.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Polarization {
+    Unpolarized,
+    /// Behind an ideal sheet polarizer with this transmission axis t (a unit
+    /// vector in the light's plane): half the radiance, fully polarized
+    /// along k × (N × t) for a ray along k (t itself at normal incidence).
+    Linear {
+        axis: DVec3,
+    },
+    /// Behind a virtual calcite plate of this optic axis that keeps only the
+    /// ordinary (E ∥ k × c) or the extraordinary (E ⊥ that, in the plane of
+    /// k and c) wave: half the radiance, polarized by the ray's direction.
+    CalcitePlate {
+        keep: PlateWave,
+        axis: DVec3,
+    },
+}
+
+/// Most distinct colours a texture may have for its spectra to be fitted
+/// one by one instead of looked up in the table.
+pub const DIRECT_FIT_LIMIT: usize = 1024;
+
+/// An RGB texture as per-texel smooth reflectance spectra (Jakob & Hanika
+/// 2019), row 0 along the light's first edge.
+#[derive(Clone, Debug)]
+pub struct Texture {
+    pub width: usize,
+    pub height: usize,
+    pub texels: Vec<SigmoidSpectrum>,
+}
+
+impl Texture {
+    /// The texture's spectra for linear RGB texels (row-major, row 0 first).
+    ///
+    /// Textures with few distinct colours (up to [`DIRECT_FIT_LIMIT`]) fit
+    /// each colour directly, which is exact and costs well under a
+    /// millisecond per colour; larger ones look colours up in the global
+    /// coefficient table (built once per process, about a second).
+    pub fn from_linear_rgb(width: usize, height: usize, rgb: &[[f64; 3]]) -> Texture {
+        assert_eq!(rgb.len(), width * height);
+        let mut distinct: HashMap<[u64; 3], SigmoidSpectrum> = HashMap::new();
+        for c in rgb {
+            distinct
+                .entry(c.map(f64::to_bits))
+                .or_insert(SigmoidSpectrum::constant(0.0));
+            if distinct.len() > DIRECT_FIT_LIMIT {
+                break;
+            }
+        }
+        let direct = distinct.len() <= DIRECT_FIT_LIMIT;
+        if direct {
+            for (bits, spectrum) in distinct.iter_mut() {
+                *spectrum = SigmoidSpectrum::fit(bits.map(f64::from_bits));
+            }
+        }
+        let texels = rgb
+            .iter()
+            .map(|c| {
+                if direct {
+                    distinct[&c.map(f64::to_bits)]
+                } else {
+                    SigmoidSpectrum::from_linear_srgb(*c)
+                }
+            })
+            .collect();
+        Texture {
+            width,
+            height,
+            texels,
+        }
+    }
+
+    /// The texel spectrum at (s, t) ∈ [0, 1]² (nearest texel: a box filter
+    /// at texel resolution).
+    #[inline]
+    pub fn at(&self, s: f64, t: f64) -> &SigmoidSpectrum {
+        let x = ((s * self.width as f64) as usize).min(self.width - 1);
+        let y = ((t * self.height as f64) as usize).min(self.height - 1);
+        &self.texels[y * self.width + x]
+    }
+}
+
+/// A rectangle c0 + s·u + t·v, (s, t) ∈ [0, 1]², emitting toward u × v.
+#[derive(Clone, Debug)]
+pub struct Light {
+    pub origin: DVec3,
+    pub u: DVec3,
+    pub v: DVec3,
+    /// Unit normal of the emitting side.
+    pub normal: DVec3,
+    pub radiance: f64,
+    pub texture: Option<Texture>,
+    pub polarization: Polarization,
+}
+
+impl Light {
+    /// Where a ray from `o` along `d` meets the emitting face: (t, s, tt)
+    /// with t the ray parameter and (s, tt) the face coordinates. Rays that
+    /// meet the back face, or travel in its plane, see nothing.
+    #[inline]
+    pub fn hit(&self, o: DVec3, d: DVec3) -> Option<(f64, f64, f64)> {
+        let den = d.dot(self.normal);
+        if den >= 0.0 || !den.is_finite() {
+            return None;
+        }
+        let t = (self.origin - o).dot(self.normal) / den;
+        if !(t > 0.0) {
+            return None;
+        }
+        let p = o + t * d - self.origin;
+        // Solve p = s u + tt v in the plane (u and v need not be orthogonal).
+        let (uu, uv, vv) = (self.u.dot(self.u), self.u.dot(self.v), self.v.dot(self.v));
+        let (pu, pv) = (p.dot(self.u), p.dot(self.v));
+        let det = uu * vv - uv * uv;
+        let s = (pu * vv - pv * uv) / det;
+        let tt = (pv * uu - pu * uv) / det;
+        ((0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&tt)).then_some((t, s, tt))
+    }
+
+    /// Spectral radiance (in units of D65) at face coordinates (s, t),
+    /// before any filter.
+    #[inline]
+    pub fn spectral_radiance(&self, s: f64, t: f64, lambda_nm: f64) -> f64 {
+        let reflectance = self
+            .texture
+            .as_ref()
+            .map_or(1.0, |tex| tex.at(s, t).eval(lambda_nm));
+        self.radiance * reflectance * cie::d65(lambda_nm)
+    }
+
+    /// The largest radiance the light sends at any wavelength in 380–780 nm
+    /// (textures never exceed 1). Only [`super::world::Scene::max_radiance`] calls
+    /// it, and nothing calls that: pruning does not need it
+    /// (docs/physics.md §5.3).
+    pub fn max_radiance(&self) -> f64 {
+        self.radiance * max_d65()
+    }
+
+    /// The coherence matrix of the light leaving face coordinates (s, t)
+    /// along unit direction `k` (from the light into the scene), expressed
+    /// in the orthonormal basis (x, y) transverse to `k`.
+    pub fn emitted(
+        &self,
+        s: f64,
+        t: f64,
+        lambda_nm: f64,
+        k: DVec3,
+        x: DVec3,
+        y: DVec3,
+    ) -> Coherence {
+        let l = self.spectral_radiance(s, t, lambda_nm);
+        let field = match self.polarization {
+            Polarization::Unpolarized => return Coherence::unpolarized(l),
+            // A sheet (dichroic or wire-grid) polarizer absorbs the field
+            // along its absorbing axis a = N × t in its plane and passes
+            // E ∥ k × a (Korger et al. 2013; Mitsuba 3's `polarizer`); at
+            // normal incidence that is the transmission axis t itself.
+            Polarization::Linear { axis } => k.cross(self.normal.cross(axis)),
+            Polarization::CalcitePlate { keep, axis } => {
+                // Ordinary wave: E ∥ k × c (docs/physics.md §4.3); along the axis the
+                // two waves are degenerate: take the light's first edge.
+                let mut e_o = k.cross(axis);
+                if e_o.length_squared() < 1e-24 {
+                    e_o = self.u;
+                }
+                match keep {
+                    PlateWave::Ordinary => e_o,
+                    PlateWave::Extraordinary => k.cross(e_o),
+                }
+            }
+        };
+        let e = (field - field.dot(k) * k).normalize_or_zero();
+        if e == DVec3::ZERO {
+            // The filter's axis is along the ray: it passes nothing.
+            return Coherence::zero(2);
+        }
+        let jones = [Complex64::new(e.dot(x), 0.0), Complex64::new(e.dot(y), 0.0)];
+        // An ideal filter passes half of unpolarized light.
+        Coherence::from_jones_vector(jones).scaled(0.5 * l)
+    }
+}
+
+fn max_d65() -> f64 {
+    (380..=780).map(|l| cie::d65(l as f64)).fold(0.0, f64::max)
+}
