@@ -16,9 +16,12 @@ mod geometry {
 mod atomic_file {
     pub use spar::atomic_file::*;
 }
+mod error {
+    pub use spar::cli::error::*;
+}
 mod cli {
-    pub mod render {
-        pub use spar::cli::render::check_output_location;
+    pub mod common {
+        pub use spar::cli::common::check_output_location;
     }
 }
 const VERSION: &str = spar::VERSION;

@@ -11,8 +11,10 @@
 //! pixels: none means the images are identical up to float rounding of
 //! hit points.
 
-use super::render::{check_output, render_film, Rendered, SceneOverrides};
-use super::CliError;
+use super::args::SceneOverrides;
+use super::common::{check_output, check_wavelength, load_scene};
+use super::render::{render_film, Rendered};
+use super::error::CliError;
 use crate::accel::AccelKind;
 use crate::image::{Image, PixelType, WriteOptions};
 use crate::render::output::{develop, OutputMode};
@@ -200,9 +202,9 @@ pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
                 .into(),
         ));
     }
-    let mut scene = super::render::load_scene(args.scene.as_deref())?;
+    let mut scene = load_scene(args.scene.as_deref())?;
     args.overrides.apply(&mut scene)?;
-    super::render::check_wavelength(args.wavelength)?;
+    check_wavelength(args.wavelength)?;
     if args.mode.contains(&OutputMode::Color) {
         crate::spectrum::Observer::new(&scene.settings.wavelengths)
             .map_err(|e| input(format!("wavelengths for the color mode: {e}")))?;

@@ -3,8 +3,9 @@
 //! column per mode). The seed paper's sixteen images are
 //! `spar contact-sheet scenes/{glass,calcite}-{unpolarized,polarized}.toml`.
 
-use super::render::{render_film, AccelArgs, SceneOverrides};
-use super::CliError;
+use super::args::{AccelArgs, SceneOverrides};
+use super::render::render_film;
+use super::error::CliError;
 use crate::image::{draw_text, Image, PixelType, WriteOptions};
 use crate::render::output::{develop, OutputMode};
 use crate::scene::Scene;

@@ -16,7 +16,7 @@
 //! validation warns about, go to standard error. Flags that the chosen cut
 //! does not take, and out-of-range proportions, are user errors (exit 2).
 
-use super::CliError;
+use super::error::CliError;
 use crate::geometry::asc::parse_asc;
 use crate::geometry::cuts::{cut_from_spec, write_obj, Cut, CUT_NAMES};
 use crate::geometry::validate::validate;
@@ -196,7 +196,7 @@ fn check_obj_output(path: &std::path::Path) -> Result<(), CliError> {
             path.display()
         )));
     }
-    crate::cli::render::check_output_location(path)
+    crate::cli::common::check_output_location(path)
 }
 
 /// A standard cut from its name and the flags given.

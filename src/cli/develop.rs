@@ -2,8 +2,8 @@
 //! EXR) from a complete raw render — what `spar merge` or `spar render
 //! --raw` wrote — through the same code as `spar render`.
 
-use super::render::{check_output, output_path, write_modes};
-use super::CliError;
+use super::common::{check_output, output_path, write_modes};
+use super::error::CliError;
 use crate::farm::part::{load_film, read_part};
 use crate::farm::progress::{ProgressMode, Reporter};
 use crate::render::output::OutputMode;

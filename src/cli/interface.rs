@@ -15,7 +15,7 @@
 //! printed), `ray` the unit energy direction (tangential for an evanescent
 //! wave), `energy` the fraction of the incident normal energy flux.
 
-use super::CliError;
+use super::error::CliError;
 use crate::material::Material;
 use crate::optics::{Interface, InterfaceError, Medium, Mode, Scattering, Side};
 use glam::DVec3;

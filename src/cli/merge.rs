@@ -3,7 +3,7 @@
 //! machine would have rendered. Refuses parts of other renders, overlaps,
 //! gaps, half-float and lossy files (exit 2, the error named first).
 
-use super::CliError;
+use super::error::CliError;
 use crate::farm::merge::merge;
 use crate::farm::part::{carried_metadata, raw_image, read_part};
 use crate::farm::progress::{ProgressMode, Reporter};
@@ -40,7 +40,7 @@ pub fn run(args: &MergeArgs) -> Result<(), CliError> {
             args.output.display()
         )));
     }
-    super::render::check_output(&args.output)?;
+    super::common::check_output(&args.output)?;
     let reporter = Reporter::new(if args.quiet {
         ProgressMode::None
     } else {

@@ -1,8 +1,8 @@
 //! `spar plan SCENE --tiles N --slurm|--openjd`: print a job that renders
 //! the scene as N tiles on a farm and merges them (docs/farm.md).
 
-use super::render::{check_isa, AccelArgs, SamplesArg, SceneOverrides};
-use super::CliError;
+use super::args::{check_isa, AccelArgs, SamplesArg, SceneOverrides};
+use super::error::CliError;
 use crate::farm::plan::Plan;
 use crate::farm::region;
 use crate::render::output::OutputMode;

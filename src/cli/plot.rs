@@ -2,13 +2,30 @@
 //! memory and written through spar's image writer): RMSE against time on
 //! log axes, one colour per mode, the Pareto front joined and labelled.
 
-use super::speed_error::{fronts, Measure, Measured};
 use crate::image::{self, Encoding, Image, PixelType, WriteOptions};
 use plotters::prelude::*;
 use std::path::Path;
 use std::sync::OnceLock;
 
 const SIZE: (u32, u32) = (1200, 800);
+
+/// What the plot shows: points (configurations) in time, and for each
+/// series (a measure) every point's error and its Pareto front.
+pub struct Plot {
+    /// Each point's label and time, seconds.
+    pub points: Vec<(String, f64)>,
+    pub series: Vec<Series>,
+}
+
+/// One series of the plot, a colour of its own.
+pub struct Series {
+    /// Its name in the legend (followed by "RMSE").
+    pub name: String,
+    /// The RMSE of each point.
+    pub errors: Vec<f64>,
+    /// The points on its Pareto front, by time.
+    pub front: Vec<usize>,
+}
 
 /// Font files tried for the plot's text (Debian's fonts-dejavu-core, which
 /// spar's setup installs).
@@ -55,7 +72,7 @@ fn decade_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
 }
 
 /// Draws the plot and writes it to `path` (PNG).
-pub fn pareto_plot(path: &Path, results: &[Measured], modes: &[Measure]) -> Result<(), String> {
+pub fn pareto_plot(path: &Path, plot: &Plot) -> Result<(), String> {
     register_font()?;
     let (w, h) = SIZE;
     let mut buf = vec![255u8; (w * h * 3) as usize];
@@ -63,11 +80,11 @@ pub fn pareto_plot(path: &Path, results: &[Measured], modes: &[Measure]) -> Resu
         let root = BitMapBackend::with_buffer(&mut buf, SIZE).into_drawing_area();
         let err = |e: DrawingAreaErrorKind<_>| format!("plot: {e}");
         root.fill(&WHITE).map_err(err)?;
-        let (t0, t1) = decade_range(results.iter().map(|r| r.seconds));
+        let (t0, t1) = decade_range(plot.points.iter().map(|p| p.1));
         // Room on the right for the labels of the slowest points.
         let t1 = t1 * 4.0;
         // Exact results (error 0) are drawn at the bottom edge.
-        let (e0, e1) = decade_range(results.iter().flat_map(|r| r.errors.iter().map(|e| e.rmse)));
+        let (e0, e1) = decade_range(plot.series.iter().flat_map(|s| s.errors.iter().copied()));
         let mut chart = ChartBuilder::on(&root)
             .caption(
                 "error against time (Pareto front joined)",
@@ -93,12 +110,13 @@ pub fn pareto_plot(path: &Path, results: &[Measured], modes: &[Measure]) -> Resu
             RGBColor(255, 127, 14),
             RGBColor(140, 86, 75),
         ];
-        let fronts = fronts(results, modes.len());
-        for (k, mode) in modes.iter().enumerate() {
+        for (k, series) in plot.series.iter().enumerate() {
             let colour = palette[k % palette.len()];
-            let pts: Vec<(f64, f64)> = results
+            let pts: Vec<(f64, f64)> = plot
+                .points
                 .iter()
-                .map(|r| (r.seconds, r.errors[k].rmse.max(e0)))
+                .zip(&series.errors)
+                .map(|(p, &e)| (p.1, e.max(e0)))
                 .collect();
             chart
                 .draw_series(
@@ -106,9 +124,9 @@ pub fn pareto_plot(path: &Path, results: &[Measured], modes: &[Measure]) -> Resu
                         .map(|&p| Circle::new(p, 4, colour.mix(0.5).filled())),
                 )
                 .map_err(|e| format!("plot: {e}"))?
-                .label(format!("{} RMSE", mode.name()))
+                .label(format!("{} RMSE", series.name))
                 .legend(move |(x, y)| Circle::new((x + 10, y), 5, colour.filled()));
-            let front = &fronts[k];
+            let front = &series.front;
             chart
                 .draw_series(LineSeries::new(
                     front.iter().map(|&i| pts[i]),
@@ -121,7 +139,7 @@ pub fn pareto_plot(path: &Path, results: &[Measured], modes: &[Measure]) -> Resu
                     .map_err(|e| format!("plot: {e}"))?;
                 chart
                     .draw_series(std::iter::once(Text::new(
-                        results[i].config.label.clone(),
+                        plot.points[i].0.clone(),
                         pts[i],
                         ("sans-serif", 14).into_font().color(&colour),
                     )))
