@@ -38,13 +38,13 @@ impl AccelArgs {
 /// Embree (exit status 2).
 pub fn check_accel(kind: AccelKind, isa: Option<&str>) -> Result<(), CliError> {
     if !kind.available() {
-        return Err(CliError::Input(format!(
+        return Err(CliError::input(format!(
             "--accel {kind}: this spar was built without the `native` feature, so Embree is not \
              available; use --accel rust"
         )));
     }
     if let (Some(isa), false) = (isa, kind == AccelKind::Embree) {
-        return Err(CliError::Input(format!(
+        return Err(CliError::input(format!(
             "--isa {isa} pins Embree's instruction set; it does not apply to --accel {kind}"
         )));
     }
@@ -185,8 +185,8 @@ impl SceneOverrides {
     /// A sample block is refused (only `spar render` takes one).
     pub fn apply(&self, scene: &mut Scene) -> Result<(), CliError> {
         if let Some(SamplesArg::Block { .. }) = self.samples {
-            return Err(CliError::Input(
-                "--samples k0..k1 (a sample block) is for spar render; give a count".into(),
+            return Err(CliError::input(
+                "--samples k0..k1 (a sample block) is for spar render; give a count",
             ));
         }
         self.apply_with_block(scene).map(|_| ())
@@ -195,7 +195,6 @@ impl SceneOverrides {
     /// Applies the overrides and returns the sample block asked for, if
     /// any, checked against the scene's sample count.
     pub fn apply_with_block(&self, scene: &mut Scene) -> Result<Option<SampleRange>, CliError> {
-        let input = CliError::Input;
         if let Some(q) = self.quality {
             q.apply(scene);
         }
@@ -213,13 +212,13 @@ impl SceneOverrides {
         }
         if let Some(spec) = &self.wavelengths {
             check_wavelength_count(spec)?;
-            scene.settings.wavelengths =
-                WavelengthSet::parse(spec).map_err(|e| input(format!("--wavelengths: {e}")))?;
+            scene.settings.wavelengths = WavelengthSet::parse(spec)
+                .map_err(|e| CliError::input(format!("--wavelengths: {e}")))?;
         }
         let mut block = None;
         match self.samples {
             Some(SamplesArg::Count(0)) | Some(SamplesArg::Block { total: Some(0), .. }) => {
-                return Err(input("--samples must be at least 1".into()));
+                return Err(CliError::input("--samples must be at least 1"));
             }
             Some(SamplesArg::Count(s)) => scene.samples = s,
             Some(SamplesArg::Block { start, end, total }) => {
@@ -227,7 +226,7 @@ impl SceneOverrides {
                     scene.samples = t;
                 }
                 block = Some(SampleRange::new(start, end, scene.samples).ok_or_else(|| {
-                    input(format!(
+                    CliError::input(format!(
                         "--samples {start}..{end}: the block must lie within the {} samples per pixel",
                         scene.samples
                     ))
@@ -239,7 +238,7 @@ impl SceneOverrides {
             if w > MAX_SIDE || h > MAX_SIDE {
                 let n = scene.settings.wavelengths.len();
                 let need = film_bytes(w as u64 * h as u64, n, 1) / crate::farm::memory::GIB;
-                return Err(input(format!(
+                return Err(CliError::input(format!(
                     "--resolution {w}x{h}: at most {MAX_SIDE} pixels per side (its film at {n} \
                      wavelength(s) would need about {need:.1} GiB of memory; {})",
                     crate::farm::memory::available().describe()
@@ -249,13 +248,13 @@ impl SceneOverrides {
         }
         if let Some(d) = self.max_depth {
             if d > 1000 {
-                return Err(input("--max-depth must be at most 1000".into()));
+                return Err(CliError::input("--max-depth must be at most 1000"));
             }
             scene.settings.max_depth = d;
         }
         if let Some(p) = self.prune {
             if !(p.is_finite() && p >= 0.0) {
-                return Err(input("--prune must be a number ≥ 0".into()));
+                return Err(CliError::input("--prune must be a number ≥ 0"));
             }
             scene.settings.prune = p;
         }
@@ -322,7 +321,7 @@ pub const MAX_SIDE: u32 = 65536;
 fn check_wavelength_count(spec: &str) -> Result<(), CliError> {
     let max = crate::scene::file::MAX_WAVELENGTHS;
     match spec.trim().parse::<u128>() {
-        Ok(n) if n > max as u128 => Err(CliError::Input(format!(
+        Ok(n) if n > max as u128 => Err(CliError::input(format!(
             "--wavelengths {n}: at most {max} wavelengths (0.04 nm apart; a 256x256 film of \
              {n} would need about {:.1} GiB of memory)",
             film_bytes(256 * 256, n.min(usize::MAX as u128) as usize, 1) / crate::farm::memory::GIB
@@ -351,12 +350,12 @@ fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
 pub const ISAS: [&str; 5] = ["sse2", "sse4.2", "avx", "avx2", "avx512"];
 
 /// Checks an `--isa` name and that this CPU has the instruction set.
-pub fn check_isa(name: &str) -> Result<(), String> {
+pub fn check_isa(name: &str) -> Result<(), CliError> {
     if !ISAS.contains(&name) {
-        return Err(format!(
+        return Err(CliError::input(format!(
             "--isa {name}: unknown instruction set; Embree 3 takes {}",
             ISAS.join(", ")
-        ));
+        )));
     }
     #[cfg(target_arch = "x86_64")]
     {
@@ -397,17 +396,17 @@ pub fn check_isa(name: &str) -> Result<(), String> {
             .collect(),
         };
         if !missing.is_empty() {
-            return Err(format!(
+            return Err(CliError::input(format!(
                 "--isa {name}: this CPU lacks {}",
                 missing.join(", ")
-            ));
+            )));
         }
         Ok(())
     }
     #[cfg(not(target_arch = "x86_64"))]
-    Err(format!(
+    Err(CliError::input(format!(
         "--isa {name}: instruction sets can be pinned on x86-64 only"
-    ))
+    )))
 }
 
 #[cfg(test)]
@@ -442,6 +441,9 @@ mod tests {
     fn isa_names_are_checked() {
         assert!(check_isa("sse2").is_ok());
         assert!(check_isa("avx512skx").is_err());
-        assert!(check_isa("bogus").unwrap_err().contains("sse4.2"));
+        assert!(check_isa("bogus")
+            .unwrap_err()
+            .to_string()
+            .contains("sse4.2"));
     }
 }

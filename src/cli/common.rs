@@ -4,7 +4,7 @@
 
 use super::error::CliError;
 use crate::farm::progress::Reporter;
-use crate::image::{PixelType, WriteOptions};
+use crate::image::{Image, PixelType, WriteOptions};
 use crate::render::film::Film;
 use crate::render::output::{develop, OutputMode};
 use crate::scene::{builtin, Scene};
@@ -36,7 +36,7 @@ pub fn output_path(output: &Path, mode: OutputMode, several: bool) -> PathBuf {
 /// written): an internal error, never the input's fault.
 pub(crate) fn check_finite<'a>(values: impl IntoIterator<Item = &'a f32>) -> Result<(), CliError> {
     match crate::farm::non_finite(values) {
-        Some((first, count)) => Err(CliError::Failed(format!(
+        Some((first, count)) => Err(CliError::internal(format!(
             "internal error: the render produced {count} non-finite value(s), the first at raw \
              value {first}"
         ))),
@@ -59,7 +59,7 @@ pub fn check_threads(threads: usize) -> Result<(), CliError> {
     let max = max_threads();
     if threads > max {
         let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-        return Err(CliError::Input(format!(
+        return Err(CliError::input(format!(
             "--threads {threads}: at most {max} on this machine ({cores} cores; 0 or no \
              --threads means one per core)"
         )));
@@ -85,7 +85,13 @@ pub fn check_film_memory(
     nodes: usize,
     what: &str,
 ) -> Result<(), CliError> {
-    crate::farm::memory::check(film_bytes(pixels, lambdas, nodes), what).map_err(CliError::Input)
+    check_memory(film_bytes(pixels, lambdas, nodes), what)
+}
+
+/// Refuses work that needs more than the available memory, naming `what`
+/// needs the `bytes`: the user asked for too much (exit status 2).
+pub fn check_memory(bytes: f64, what: &str) -> Result<(), CliError> {
+    crate::farm::memory::check(bytes, what).map_err(CliError::input)
 }
 
 pub(crate) fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, CliError> {
@@ -93,7 +99,7 @@ pub(crate) fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, CliError>
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
-        .map_err(|e| CliError::Failed(format!("cannot start worker threads: {e}")))
+        .map_err(|e| CliError::internal(format!("cannot start worker threads: {e}")))
 }
 
 /// Refuses an image output whose directory does not exist, that names a
@@ -107,7 +113,7 @@ pub fn check_output(path: &Path) -> Result<(), CliError> {
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("png") || e.eq_ignore_ascii_case("exr"))
     {
-        return Err(CliError::Input(format!(
+        return Err(CliError::output(format!(
             "{}: this spar was built without the `native` feature and writes .png and .exr \
              files only",
             path.display()
@@ -124,19 +130,31 @@ pub fn check_output_location(path: &Path) -> Result<(), CliError> {
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
     if !dir.is_dir() {
-        return Err(CliError::Input(format!(
+        return Err(CliError::output(format!(
             "{}: the directory {} does not exist",
             path.display(),
             dir.display()
         )));
     }
     if path.is_dir() {
-        return Err(CliError::Input(format!(
+        return Err(CliError::output(format!(
             "{}: is a directory, not a file name",
             path.display()
         )));
     }
     Ok(())
+}
+
+/// Develops `film` into the image of `mode`. What develop refuses (a
+/// colour set too sparse to carry colour, a wavelength the film lacks)
+/// comes from the scene, the flags or the raw file: an input error.
+pub fn develop_image(
+    film: &Film,
+    mode: OutputMode,
+    colour: &WavelengthSet,
+    mono_nm: f64,
+) -> Result<Image, CliError> {
+    develop(film, mode, colour, mono_nm).map_err(CliError::input)
 }
 
 /// Develops `film` in each mode and writes the images (the one code path
@@ -155,7 +173,7 @@ pub fn write_modes(
 ) -> Result<(), CliError> {
     for &m in modes {
         let path = output_path(output, m, modes.len() > 1);
-        let mut image = develop(film, m, colour, mono_nm).map_err(CliError::Input)?;
+        let mut image = develop_image(film, m, colour, mono_nm)?;
         for (k, v) in metadata {
             image = image.with_metadata(k.clone(), v.clone());
         }
@@ -164,7 +182,7 @@ pub fn write_modes(
             OutputMode::Stokes => WriteOptions::new(PixelType::F32),
             _ => WriteOptions::new(PixelType::U8),
         };
-        crate::image::write(&path, &image, options).map_err(|e| CliError::Input(e.to_string()))?;
+        crate::image::write(&path, &image, options)?;
         reporter.event("wrote", &path.display().to_string());
         if !quiet && !reporter.prints_lines() {
             eprintln!("wrote {}", path.display());
@@ -194,7 +212,8 @@ impl Signals {
         {
             use signal_hook::consts::{SIGINT, SIGTERM, SIGUSR1};
             use signal_hook::flag;
-            let fail = |e: std::io::Error| CliError::Failed(format!("cannot handle signals: {e}"));
+            let fail =
+                |e: std::io::Error| CliError::internal(format!("cannot handle signals: {e}"));
             flag::register_conditional_shutdown(SIGINT, 130, s.stop.clone()).map_err(fail)?;
             for sig in [SIGTERM, SIGINT] {
                 flag::register_usize(sig, s.which.clone(), sig as usize).map_err(fail)?;
@@ -223,9 +242,10 @@ impl Signals {
 /// default scene.
 pub fn load_scene(path: Option<&Path>) -> Result<Scene, CliError> {
     match path {
-        Some(path) => Scene::load(path).map_err(|e| CliError::Input(e.to_string())),
+        Some(path) => Ok(Scene::load(path)?),
+        // The embedded scene is spar's own: failing to read it is too.
         None => Scene::parse(builtin::DEFAULT_SCENE, "(default scene)", Path::new("."))
-            .map_err(|e| CliError::Failed(e.to_string())),
+            .map_err(|e| CliError::internal(e.to_string())),
     }
 }
 
@@ -234,7 +254,7 @@ pub fn check_wavelength(nm: f64) -> Result<(), CliError> {
     if nm.is_finite() && (360.0..=830.0).contains(&nm) {
         Ok(())
     } else {
-        Err(CliError::Input(format!(
+        Err(CliError::input(format!(
             "--wavelength {nm} is outside 360–830 nm"
         )))
     }

@@ -18,7 +18,7 @@ pub mod plot;
 pub mod render;
 pub mod speed_error;
 
-pub use error::CliError;
+pub use error::{CliError, ErrorKind};
 
 /// spar: renders polarized light in cut gems and birefringent crystals.
 #[derive(Parser, Debug)]

@@ -304,7 +304,6 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
 /// The scene with the overrides applied and everything the flags ask for,
 /// checked (exit status 2) before anything is rendered or written.
 fn checked_job(args: &RenderArgs) -> Result<Job, CliError> {
-    let input = CliError::Input;
     if let Some(t) = args.threads {
         check_threads(t)?;
     }
@@ -313,16 +312,16 @@ fn checked_job(args: &RenderArgs) -> Result<Job, CliError> {
     check_wavelength(args.wavelength)?;
     if args.mode.contains(&OutputMode::Color) {
         crate::spectrum::Observer::new(&scene.settings.wavelengths)
-            .map_err(|e| input(format!("wavelengths for the color mode: {e}")))?;
+            .map_err(|e| CliError::input(format!("wavelengths for the color mode: {e}")))?;
     }
     let mut modes = args.mode.clone();
     modes.dedup();
     if modes.is_empty() {
-        return Err(input("--mode needs at least one mode".into()));
+        return Err(CliError::input("--mode needs at least one mode"));
     }
     let farm = &args.farm;
     if let Some(isa) = &farm.isa {
-        check_isa(isa).map_err(input)?;
+        check_isa(isa)?;
     }
     let accel = args.accel.kind(farm.isa.as_deref())?;
     let region = region_of(farm, scene.camera.width, scene.camera.height)?;
@@ -360,18 +359,18 @@ fn checked_job(args: &RenderArgs) -> Result<Job, CliError> {
 /// The pixels `--region` or `--tile` ask for (checked against the `w`×`h`
 /// image), or the whole image.
 fn region_of(farm: &FarmArgs, w: u32, h: u32) -> Result<Rect, CliError> {
-    let input = CliError::Input;
     Ok(match (farm.region, farm.tile) {
         (Some(r), _) => {
             if !r.fits(w, h) {
-                return Err(input(format!(
+                return Err(CliError::input(format!(
                     "--region {r} is not inside the {w}x{h} image (x0,x1,y0,y1, ends exclusive)"
                 )));
             }
             r
         }
         (None, Some(t)) => region::split(w, h, t.count)
-            .map_err(|e| input(format!("--tile {}/{}: {e}", t.index, t.count)))?[t.index as usize],
+            .map_err(|e| CliError::input(format!("--tile {}/{}: {e}", t.index, t.count)))?
+            [t.index as usize],
         (None, None) => Rect::full(w, h),
     })
 }
@@ -385,7 +384,7 @@ fn check_outputs(args: &RenderArgs, raw: bool, modes: &[OutputMode]) -> Result<(
             .extension()
             .is_none_or(|e| !e.eq_ignore_ascii_case("exr"))
         {
-            return Err(CliError::Input(format!(
+            return Err(CliError::input(format!(
                 "{}: a raw part (--region, --tile, --samples k0..k1, --raw) is an .exr file",
                 args.output.display()
             )));
@@ -452,9 +451,7 @@ impl Checkpoint {
             }
             return Ok(Vec::new());
         }
-        let loaded =
-            checkpoint::load(&self.path, &self.key).map_err(|e| CliError::Input(e.to_string()))?;
-        Ok(match loaded {
+        Ok(match checkpoint::load(&self.path, &self.key)? {
             Some(tiles) => {
                 reporter.event("resume", &format!("{path} ({} tiles done)", tiles.len()));
                 tiles
@@ -558,7 +555,7 @@ fn render(
             let refs: Vec<&TileData> = tiles.iter().collect();
             save(&refs);
             let saved = save_error.lock().expect("not poisoned").is_none();
-            Err(CliError::Failed(if saved {
+            Err(CliError::internal(if saved {
                 format!(
                     "stopped by {} after {}/{grid_len} tiles; checkpoint {} saved: run the same \
                      command with --resume to continue",
@@ -586,9 +583,10 @@ fn write_outputs(
 ) -> Result<(), CliError> {
     check_finite(&part.data)?;
     if job.raw {
-        let image = part_image(&part, info).map_err(CliError::Failed)?;
-        crate::image::write(&args.output, &image, WriteOptions::new(PixelType::F32))
-            .map_err(|e| CliError::Input(e.to_string()))?;
+        // The part's values are spar's own: an image of them that cannot
+        // be made is its failure.
+        let image = part_image(&part, info).map_err(CliError::internal)?;
+        crate::image::write(&args.output, &image, WriteOptions::new(PixelType::F32))?;
         reporter.event("wrote", &args.output.display().to_string());
         if !args.quiet && !reporter.prints_lines() {
             eprintln!("wrote {}", args.output.display());

@@ -4,10 +4,11 @@
 //! against error.
 
 use super::sweep::Config;
+use crate::cli::common::develop_image;
 use crate::cli::error::CliError;
 use crate::image::Image;
 use crate::render::film::Film;
-use crate::render::output::{develop, OutputMode};
+use crate::render::output::OutputMode;
 use crate::spectrum::WavelengthSet;
 
 /// Error of one mode against the reference (display values).
@@ -211,7 +212,7 @@ pub fn developed(
 ) -> Result<Vec<Image>, CliError> {
     modes
         .iter()
-        .map(|&m| develop(film, m, colour, mono).map_err(CliError::Failed))
+        .map(|&m| develop_image(film, m, colour, mono))
         .collect()
 }
 

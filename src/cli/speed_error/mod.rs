@@ -126,10 +126,9 @@ fn display_modes(asked: &[OutputMode]) -> Result<Vec<OutputMode>, CliError> {
     let mut modes = asked.to_vec();
     modes.dedup();
     if modes.is_empty() || modes.contains(&OutputMode::Stokes) {
-        return Err(CliError::Input(
+        return Err(CliError::input(
             "--mode: give display modes (color, mono, dop, ellipticity, ellipticity-paper, \
-             azimuth); stokes has no display error"
-                .into(),
+             azimuth); stokes has no display error",
         ));
     }
     Ok(modes)
@@ -146,7 +145,7 @@ fn checked_scene(args: &SpeedErrorArgs) -> Result<Scene, CliError> {
 /// Creates the output directory (and its parents) if need be.
 fn create_dir(dir: &Path) -> Result<(), CliError> {
     std::fs::create_dir_all(dir).map_err(|e| {
-        CliError::Input(format!(
+        CliError::input(format!(
             "{}: cannot create the directory: {e}",
             dir.display()
         ))
@@ -158,10 +157,10 @@ fn replot(args: &SpeedErrorArgs) -> Result<(), CliError> {
     let mut measures: Option<Vec<Measure>> = None;
     let mut rows = Vec::new();
     for path in &args.from_csv {
-        let (m, r) = results::read_csv(path).map_err(CliError::Input)?;
+        let (m, r) = results::read_csv(path).map_err(CliError::input)?;
         match &measures {
             Some(first) if *first != m => {
-                return Err(CliError::Input(format!(
+                return Err(CliError::input(format!(
                     "{}: other measures than {} ({})",
                     path.display(),
                     args.from_csv[0].display(),

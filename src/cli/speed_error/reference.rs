@@ -9,8 +9,8 @@ use super::metrics::{
 use super::sweep::Config;
 use crate::accel::AccelKind;
 use crate::cli::common::{check_finite, thread_pool};
-use crate::cli::render::{build_accel_kind, lambdas_for, options_for, render_film, Rendered};
 use crate::cli::error::CliError;
+use crate::cli::render::{build_accel_kind, lambdas_for, options_for, render_film, Rendered};
 use crate::farm::blocks::SampleRange;
 use crate::farm::part::scene_hash;
 use crate::farm::region::Rect;
@@ -411,12 +411,11 @@ fn save_reference(path: &Path, parts: &[Film], identity: &str) -> Result<(), Cli
         }
     }
     let samples: Vec<String> = parts.iter().map(|f| f.samples.to_string()).collect();
-    let img = Image::new(a.width as usize, a.height as usize, channels, data)
-        .map_err(|e| CliError::Failed(e.to_string()))?
+    let img = Image::new(a.width as usize, a.height as usize, channels, data)?
         .with_metadata(REFERENCE_KEY, identity)
         .with_metadata("spar:samples", samples.join(","));
-    image::write(path, &img, WriteOptions::new(PixelType::F32))
-        .map_err(|e| CliError::Input(e.to_string()))
+    image::write(path, &img, WriteOptions::new(PixelType::F32))?;
+    Ok(())
 }
 
 fn load_reference(
@@ -425,11 +424,10 @@ fn load_reference(
     lambdas: &[f64],
     parts: usize,
 ) -> Result<Vec<Film>, CliError> {
-    let input = CliError::Input;
-    let img = image::read(path).map_err(|e| input(e.to_string()))?;
+    let img = image::read(path)?;
     let meta = |k: &str| img.metadata().get(k).cloned();
     if meta(REFERENCE_KEY).as_deref() != Some(identity) {
-        return Err(input(format!(
+        return Err(CliError::input(format!(
             "{}: not a reference for this scene and these settings (delete it to render \
              a new one)",
             path.display()
@@ -439,7 +437,7 @@ fn load_reference(
         .map(|s| s.split(',').filter_map(|v| v.parse().ok()).collect())
         .unwrap_or_default();
     if samples.len() != parts {
-        return Err(input(format!(
+        return Err(CliError::input(format!(
             "{}: spar:samples does not name {parts} part(s)",
             path.display()
         )));
@@ -450,9 +448,9 @@ fn load_reference(
     for (h, &n) in PARTS.iter().zip(&samples) {
         let mut sums = vec![0.0f32; img.width() * img.height() * nch];
         for (c, name) in names.iter().enumerate() {
-            let plane = img
-                .channel(&format!("{h}.{name}"))
-                .map_err(|_| input(format!("{}: no channel {h}.{name}", path.display())))?;
+            let plane = img.channel(&format!("{h}.{name}")).map_err(|_| {
+                CliError::input(format!("{}: no channel {h}.{name}", path.display()))
+            })?;
             for (p, v) in plane.into_iter().enumerate() {
                 sums[p * nch + c] = v;
             }

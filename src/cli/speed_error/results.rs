@@ -4,8 +4,8 @@
 
 use super::metrics::{fronts, Measure, Measured, ModeError};
 use super::sweep::Config;
-use crate::cli::plot::{pareto_plot, Plot, Series};
 use crate::cli::error::CliError;
+use crate::cli::plot::{pareto_plot, Plot, Series};
 use crate::render::output::OutputMode;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -22,15 +22,13 @@ pub fn write(
     quiet: bool,
 ) -> Result<(), CliError> {
     let plot_path = dir.join("pareto.png");
-    pareto_plot(&plot_path, &plot_of(results, measures)).map_err(CliError::Failed)?;
+    pareto_plot(&plot_path, &plot_of(results, measures))?;
     if let Some(about) = about {
         let about_path = dir.join("reference.txt");
-        crate::atomic_file::write(&about_path, about.as_bytes())
-            .map_err(|e| CliError::Failed(format!("{}: {e}", about_path.display())))?;
+        crate::atomic_file::write(&about_path, about.as_bytes())?;
     }
     let csv_path = dir.join("results.csv");
-    crate::atomic_file::write(&csv_path, csv(results, measures).as_bytes())
-        .map_err(|e| CliError::Failed(format!("{}: {e}", csv_path.display())))?;
+    crate::atomic_file::write(&csv_path, csv(results, measures).as_bytes())?;
     if !quiet {
         print!("{}", table(results, measures));
         println!("wrote {} and {}", csv_path.display(), plot_path.display());

@@ -154,7 +154,6 @@ impl Sweep {
         reference: &str,
         paired: bool,
     ) -> Result<Sweep, CliError> {
-        let input = CliError::Input;
         let texts: Vec<&str> = if configs.is_empty() {
             DEFAULT_SWEEP.to_vec()
         } else {
@@ -164,17 +163,19 @@ impl Sweep {
             .iter()
             .map(|c| Config::parse(c))
             .collect::<Result<Vec<Config>, String>>()
-            .map_err(|e| input(format!("--config {e}")))?;
-        let reference =
-            Config::parse(reference).map_err(|e| input(format!("--reference-config {e}")))?;
+            .map_err(|e| CliError::input(format!("--config {e}")))?;
+        let reference = Config::parse(reference)
+            .map_err(|e| CliError::input(format!("--reference-config {e}")))?;
         // Every configuration checked before anything is rendered or written.
         let reference_scene = reference
             .apply(scene)
-            .map_err(|e| input(format!("--reference-config {e}")))?;
+            .map_err(|e| CliError::input(format!("--reference-config {e}")))?;
         let scenes = configs
             .iter()
             .map(|c| {
-                let mut s = c.apply(scene).map_err(|e| input(format!("--config {e}")))?;
+                let mut s = c
+                    .apply(scene)
+                    .map_err(|e| CliError::input(format!("--config {e}")))?;
                 if paired {
                     s.settings.seed = reference_scene.settings.seed;
                 }
