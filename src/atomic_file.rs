@@ -6,9 +6,26 @@ use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+/// A file that could not be written: its path and the file system's
+/// reason (`PATH: REASON`).
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {source}", path.display())]
+pub struct WriteError {
+    pub path: PathBuf,
+    #[source]
+    pub source: std::io::Error,
+}
+
 /// Writes `bytes` to `path` atomically: afterwards `path` holds either its
 /// old contents or all of `bytes`, and no temporary file is left.
-pub fn write(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+pub fn write(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
+    write_io(path, bytes).map_err(|source| WriteError {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+fn write_io(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let name = path
         .file_name()
         .ok_or_else(|| std::io::Error::other("the path names no file"))?;

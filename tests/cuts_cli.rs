@@ -8,7 +8,7 @@
 use spar::geometry::load_obj;
 use std::path::Path;
 
-pub use spar::cli::CliError;
+pub use spar::cli::{CliError, ErrorKind};
 /// The paths `src/cli/cut.rs` uses (`crate::…`), re-exported for it.
 mod geometry {
     pub use spar::geometry::*;
@@ -16,9 +16,12 @@ mod geometry {
 mod atomic_file {
     pub use spar::atomic_file::*;
 }
+mod error {
+    pub use spar::cli::error::*;
+}
 mod cli {
-    pub mod render {
-        pub use spar::cli::render::check_output_location;
+    pub mod common {
+        pub use spar::cli::common::check_output_location;
     }
 }
 const VERSION: &str = spar::VERSION;
@@ -36,7 +39,7 @@ struct Args {
 
 fn run(argv: &[&str]) -> Result<String, CliError> {
     let args = Args::try_parse_from(std::iter::once("cut").chain(argv.iter().copied()))
-        .map_err(|e| CliError::Input(e.to_string()))?;
+        .map_err(|e| CliError::input(e.to_string()))?;
     let mut out = Vec::new();
     cut::run_to(&args.cut, &mut out)?;
     Ok(String::from_utf8(out).unwrap())
@@ -123,7 +126,7 @@ fn asc_designs_convert() {
     ])
     .unwrap_err();
     assert!(
-        matches!(e, CliError::Input(_)) && e.to_string().contains("--table"),
+        e.kind() == ErrorKind::Input && e.to_string().contains("--table"),
         "{e}"
     );
 }

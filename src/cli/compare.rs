@@ -11,11 +11,13 @@
 //! pixels: none means the images are identical up to float rounding of
 //! hit points.
 
-use super::render::{check_output, render_film, Rendered, SceneOverrides};
-use super::CliError;
+use super::args::SceneOverrides;
+use super::common::{check_output, check_wavelength, develop_image, load_scene};
+use super::error::CliError;
+use super::render::{render_film, Rendered};
 use crate::accel::AccelKind;
 use crate::image::{Image, PixelType, WriteOptions};
-use crate::render::output::{develop, OutputMode};
+use crate::render::output::OutputMode;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -192,25 +194,23 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
 
 /// [`run`], printing the table to `out`.
 pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
-    let input = CliError::Input;
     if !AccelKind::Embree.available() {
-        return Err(input(
+        return Err(CliError::input(
             "spar compare renders with both backends, Embree and the Rust BVH, but this spar \
-             was built without the `native` feature: it has the Rust BVH only"
-                .into(),
+             was built without the `native` feature: it has the Rust BVH only",
         ));
     }
-    let mut scene = super::render::load_scene(args.scene.as_deref())?;
+    let mut scene = load_scene(args.scene.as_deref())?;
     args.overrides.apply(&mut scene)?;
-    super::render::check_wavelength(args.wavelength)?;
+    check_wavelength(args.wavelength)?;
     if args.mode.contains(&OutputMode::Color) {
         crate::spectrum::Observer::new(&scene.settings.wavelengths)
-            .map_err(|e| input(format!("wavelengths for the color mode: {e}")))?;
+            .map_err(|e| CliError::input(format!("wavelengths for the color mode: {e}")))?;
     }
     let mut modes = args.mode.clone();
     modes.dedup();
     if modes.is_empty() {
-        return Err(input("--mode needs at least one mode".into()));
+        return Err(CliError::input("--mode needs at least one mode"));
     }
     let several = modes.len() > 1;
     for &m in &modes {
@@ -222,7 +222,7 @@ pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
             .extension()
             .is_none_or(|e| !e.eq_ignore_ascii_case("png"))
     {
-        return Err(input(format!(
+        return Err(CliError::input(format!(
             "{}: the difference image is a .png (relative differences, log scale) or an .exr \
              (absolute differences)",
             args.output.display()
@@ -254,7 +254,7 @@ pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
         }
     }
     let (w, h) = (scene.camera.width, scene.camera.height);
-    let io = |e: std::io::Error| CliError::Failed(format!("cannot print the table: {e}"));
+    let io = |e: std::io::Error| CliError::internal(format!("cannot print the table: {e}"));
     let label = args
         .scene
         .as_ref()
@@ -335,10 +335,8 @@ pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
     let mut rows = vec![("raw (Stokes sums)".to_string(), raw)];
     let mut written = Vec::new();
     for &m in &modes {
-        let dev = |r: &Rendered| {
-            develop(&r.film, m, &scene.settings.wavelengths, args.wavelength)
-                .map_err(CliError::Input)
-        };
+        let dev =
+            |r: &Rendered| develop_image(&r.film, m, &scene.settings.wavelengths, args.wavelength);
         let (a, b) = (dev(&runs[0])?, dev(&runs[1])?);
         let nch = a.channels().len();
         let (d, rel) = difference(a.data(), b.data(), nch);
@@ -351,8 +349,7 @@ pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
                 .zip(b.data())
                 .map(|(x, y)| (x - y).abs())
                 .collect();
-            let image = Image::new(a.width(), a.height(), a.channels().to_vec(), data)
-                .map_err(|e| CliError::Failed(e.to_string()))?;
+            let image = Image::new(a.width(), a.height(), a.channels().to_vec(), data)?;
             (image, PixelType::F32)
         } else {
             let data: Vec<f32> = rel.iter().flat_map(|&r| [grey_level(r); 3]).collect();
@@ -361,8 +358,7 @@ pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
                 a.height(),
                 vec!["R".into(), "G".into(), "B".into()],
                 data,
-            )
-            .map_err(|e| CliError::Failed(e.to_string()))?;
+            )?;
             (image, PixelType::U8)
         };
         let image = image
@@ -378,8 +374,7 @@ pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
                     "relative difference per pixel, grey = (log10(d) + 7) / 7"
                 },
             );
-        crate::image::write(&path, &image, WriteOptions::new(pixel_type))
-            .map_err(|e| input(e.to_string()))?;
+        crate::image::write(&path, &image, WriteOptions::new(pixel_type))?;
         written.push(path);
     }
     for (name, d) in &rows {

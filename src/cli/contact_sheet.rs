@@ -3,10 +3,12 @@
 //! column per mode). The seed paper's sixteen images are
 //! `spar contact-sheet scenes/{glass,calcite}-{unpolarized,polarized}.toml`.
 
-use super::render::{render_film, AccelArgs, SceneOverrides};
-use super::CliError;
+use super::args::{AccelArgs, SceneOverrides};
+use super::common::{check_wavelength, develop_image};
+use super::error::CliError;
+use super::render::render_film;
 use crate::image::{draw_text, Image, PixelType, WriteOptions};
-use crate::render::output::{develop, OutputMode};
+use crate::render::output::OutputMode;
 use crate::scene::Scene;
 use std::path::PathBuf;
 
@@ -49,29 +51,23 @@ pub struct ContactSheetArgs {
 
 pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
     if args.mode.contains(&OutputMode::Stokes) {
-        return Err(CliError::Input(
-            "the stokes mode is data (EXR), not a picture: leave it out of a contact sheet".into(),
+        return Err(CliError::input(
+            "the stokes mode is data (EXR), not a picture: leave it out of a contact sheet",
         ));
     }
-    if !(args.wavelength.is_finite() && (360.0..=830.0).contains(&args.wavelength)) {
-        return Err(CliError::Input(format!(
-            "--wavelength {} is outside 360–830 nm",
-            args.wavelength
-        )));
-    }
+    check_wavelength(args.wavelength)?;
     let accel = args.accel.kind(None)?;
     // The panels' labels are drawn by OpenImageIO: refuse before rendering.
     if !cfg!(feature = "native") {
-        return Err(CliError::Input(
+        return Err(CliError::input(
             "spar contact-sheet labels its panels with OpenImageIO: this build has no `native` \
-             feature (build spar with its default features)"
-                .into(),
+             feature (build spar with its default features)",
         ));
     }
     // Load and check every scene before rendering any.
     let mut scenes = Vec::new();
     for path in &args.scenes {
-        let mut scene = Scene::load(path).map_err(|e| CliError::Input(e.to_string()))?;
+        let mut scene = Scene::load(path)?;
         args.overrides.apply(&mut scene)?;
         scenes.push(scene);
     }
@@ -84,7 +80,7 @@ pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
         .enumerate()
         .find(|(_, s)| (s.camera.width as usize, s.camera.height as usize) != (w, h))
     {
-        return Err(CliError::Input(format!(
+        return Err(CliError::input(format!(
             "{}: its resolution differs from {}'s; give --resolution to render all at one size",
             args.scenes[i].display(),
             args.scenes[0].display()
@@ -132,13 +128,12 @@ pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
         let top = LABEL_HEIGHT + r * row_h;
         labels.push((GAP as i32 + 2, baseline(top), name));
         for (c, &mode) in args.mode.iter().enumerate() {
-            let image = develop(
+            let image = develop_image(
                 &done.film,
                 mode,
                 &scene.settings.wavelengths,
                 args.wavelength,
-            )
-            .map_err(CliError::Failed)?;
+            )?;
             let (x0, y0) = (GAP + c * cell_w, top + LABEL_HEIGHT);
             for y in 0..h {
                 for x in 0..w {
@@ -154,19 +149,17 @@ pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
         sheet_h,
         vec!["R".into(), "G".into(), "B".into()],
         sheet,
-    )
-    .map_err(|e| CliError::Failed(e.to_string()))?;
+    )?;
     let size = 14;
     for (x, y, text) in &labels {
         draw_text(&mut image, *x, *y, text, size, FONT, &[1.0, 1.0, 1.0]).map_err(|e| {
-            CliError::Failed(format!(
+            CliError::internal(format!(
                 "{e} (labels use the font {FONT}; on Debian install fonts-dejavu-core)"
             ))
         })?;
     }
     let image = image.with_metadata("spar:version", crate::VERSION);
-    crate::image::write(&args.output, &image, WriteOptions::new(PixelType::U8))
-        .map_err(|e| CliError::Input(e.to_string()))?;
+    crate::image::write(&args.output, &image, WriteOptions::new(PixelType::U8))?;
     if !args.quiet {
         eprintln!("wrote {}", args.output.display());
     }

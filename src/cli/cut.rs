@@ -16,13 +16,13 @@
 //! validation warns about, go to standard error. Flags that the chosen cut
 //! does not take, and out-of-range proportions, are user errors (exit 2).
 
-use super::CliError;
-use crate::geometry::asc::parse_asc;
+use super::error::CliError;
+use crate::geometry::asc::load_asc;
 use crate::geometry::cuts::{cut_from_spec, write_obj, Cut, CUT_NAMES};
 use crate::geometry::validate::validate;
 use crate::geometry::Mesh;
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Generate a standard cut (or a GemCAD .asc design's stone) as OBJ.
 #[derive(clap::Args, Debug)]
@@ -166,7 +166,7 @@ pub fn run_to(args: &CutArgs, out: &mut dyn Write) -> Result<(), CliError> {
     };
     let report = validate(&mesh);
     if let Some(t) = &report.topology {
-        return Err(CliError::Failed(format!(
+        return Err(CliError::internal(format!(
             "{}: the stone is not closed: {t}",
             args.cut
         )));
@@ -178,8 +178,13 @@ pub fn run_to(args: &CutArgs, out: &mut dyn Write) -> Result<(), CliError> {
         eprintln!("spar: warning: {note}");
     }
     let text = write_obj(&mesh, &comments);
-    crate::atomic_file::write(&args.output, text.as_bytes())
-        .map_err(|e| CliError::Input(format!("{}: cannot write: {e}", args.output.display())))?;
+    crate::atomic_file::write(&args.output, text.as_bytes()).map_err(|e| {
+        CliError::output(format!(
+            "{}: cannot write: {}",
+            args.output.display(),
+            e.source
+        ))
+    })?;
     let _ = writeln!(out, "{}: {}", args.output.display(), report.summary());
     Ok(())
 }
@@ -191,18 +196,18 @@ fn check_obj_output(path: &std::path::Path) -> Result<(), CliError> {
         .extension()
         .is_none_or(|e| !e.eq_ignore_ascii_case("obj"))
     {
-        return Err(CliError::Input(format!(
+        return Err(CliError::input(format!(
             "{}: spar cut writes OBJ text; name the output .obj",
             path.display()
         )));
     }
-    crate::cli::render::check_output_location(path)
+    crate::cli::common::check_output_location(path)
 }
 
 /// A standard cut from its name and the flags given.
 fn from_cut(args: &CutArgs) -> Result<(Mesh, Vec<String>, Vec<String>), CliError> {
     if Cut::by_name(&args.cut).is_none() {
-        return Err(CliError::Input(format!(
+        return Err(CliError::input(format!(
             "unknown cut `{}`: expected one of {} or a GemCAD .asc file",
             args.cut,
             CUT_NAMES.join(", ")
@@ -213,7 +218,7 @@ fn from_cut(args: &CutArgs) -> Result<(Mesh, Vec<String>, Vec<String>), CliError
     for (name, value) in args.parameters() {
         table.insert(name.into(), value);
     }
-    let flags = |m: String| CliError::Input(as_flags(&m, &PARAMETERS));
+    let flags = |m: String| CliError::input(as_flags(&m, &PARAMETERS));
     let cut = cut_from_spec(&toml::Value::Table(table)).map_err(flags)?;
     let stone = cut.stone().map_err(flags)?;
     let mut comments = vec![format!("spar cut {} (spar {})", cut.name(), crate::VERSION)];
@@ -232,16 +237,14 @@ fn from_cut(args: &CutArgs) -> Result<(Mesh, Vec<String>, Vec<String>), CliError
 /// The stone of a GemCAD design.
 fn from_asc(args: &CutArgs) -> Result<(Mesh, Vec<String>, Vec<String>), CliError> {
     if let Some((name, _)) = args.parameters().first() {
-        return Err(CliError::Input(format!(
+        return Err(CliError::input(format!(
             "`--{}` does not apply to a GemCAD design: its facets are given",
             name.replace('_', "-")
         )));
     }
     let file = args.cut.clone();
-    let bytes =
-        std::fs::read(&file).map_err(|e| CliError::Input(format!("{file}: cannot read: {e}")))?;
-    let design = parse_asc(&bytes, &file).map_err(|e| CliError::Input(e.to_string()))?;
-    let stone = design.stone().map_err(|e| CliError::Input(e.to_string()))?;
+    let design = load_asc(Path::new(&file))?;
+    let stone = design.stone()?;
     let mut comments = vec![format!("spar cut {file} (spar {})", crate::VERSION)];
     comments.extend(design.headers.iter().map(|h| format!("H {h}")));
     comments.push(format!(

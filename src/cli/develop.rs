@@ -2,8 +2,8 @@
 //! EXR) from a complete raw render — what `spar merge` or `spar render
 //! --raw` wrote — through the same code as `spar render`.
 
-use super::render::{check_output, output_path, write_modes};
-use super::CliError;
+use super::common::{check_memory, check_output, output_path, write_modes};
+use super::error::CliError;
 use crate::farm::part::{load_film, read_part};
 use crate::farm::progress::{ProgressMode, Reporter};
 use crate::render::output::OutputMode;
@@ -33,27 +33,25 @@ pub struct DevelopArgs {
 }
 
 pub fn run(args: &DevelopArgs) -> Result<(), CliError> {
-    let input = CliError::Input;
     let mut modes = args.mode.clone();
     modes.dedup();
     if modes.is_empty() {
-        return Err(input("--mode needs at least one mode".into()));
+        return Err(CliError::input("--mode needs at least one mode"));
     }
     for &m in &modes {
         check_output(&output_path(&args.output, m, modes.len() > 1))?;
     }
-    let part = read_part(&args.raw).map_err(|e| input(e.to_string()))?;
+    let part = read_part(&args.raw)?;
     // The film and each developed image are copies of about the raw size.
-    crate::farm::memory::check(
+    check_memory(
         part.data.len() as f64 * 4.0 * (2 + modes.len()) as f64,
         &format!(
             "developing {} in {} mode(s)",
             args.raw.display(),
             modes.len()
         ),
-    )
-    .map_err(input)?;
-    let dev = load_film(part).map_err(|e| input(e.to_string()))?;
+    )?;
+    let dev = load_film(part)?;
     let mono = args.wavelength.unwrap_or(dev.mono_nm);
     let reporter = Reporter::new(if args.quiet {
         ProgressMode::None

@@ -15,7 +15,7 @@
 //! printed), `ray` the unit energy direction (tangential for an evanescent
 //! wave), `energy` the fraction of the incident normal energy flux.
 
-use super::CliError;
+use super::error::CliError;
 use crate::material::Material;
 use crate::optics::{Interface, InterfaceError, Medium, Mode, Scattering, Side};
 use glam::DVec3;
@@ -71,7 +71,7 @@ pub struct InterfaceArgs {
 /// Parse `x,y,z` into a finite non-zero vector.
 fn parse_vector(text: &str, flag: &str) -> Result<DVec3, CliError> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
-    let bad = || CliError::Input(format!("--{flag} `{text}`: expected three numbers `x,y,z`"));
+    let bad = || CliError::input(format!("--{flag} `{text}`: expected three numbers `x,y,z`"));
     if parts.len() != 3 {
         return Err(bad());
     }
@@ -81,10 +81,10 @@ fn parse_vector(text: &str, flag: &str) -> Result<DVec3, CliError> {
     }
     let v = DVec3::from_array(v);
     if !v.is_finite() {
-        return Err(CliError::Input(format!("--{flag} `{text}` must be finite")));
+        return Err(CliError::input(format!("--{flag} `{text}` must be finite")));
     }
     if v.length_squared() == 0.0 || !v.length().is_finite() || v.length() == 0.0 {
-        return Err(CliError::Input(format!(
+        return Err(CliError::input(format!(
             "--{flag} `{text}` must be a non-zero vector"
         )));
     }
@@ -110,51 +110,47 @@ fn check_indices(name: &str, m: &Medium, lambda: f64) -> Result<(), CliError> {
     if good {
         Ok(())
     } else {
-        Err(CliError::Input(format!(
+        Err(CliError::input(format!(
             "{name} has no usable refractive index at {lambda} nm (outside its dispersion model)"
         )))
     }
 }
 
-fn input(e: InterfaceError) -> CliError {
-    CliError::Input(e.to_string())
-}
-
 /// Build the interface and solve it; every user error becomes
-/// `CliError::Input`.
+/// an input error (exit status 2).
 pub fn solve(args: &InterfaceArgs) -> Result<(Interface, Scattering), CliError> {
     let normal = parse_vector(&args.normal, "normal")?;
     let incident = parse_vector(&args.incident, "incident")?;
     let axis = parse_vector(&args.axis, "axis")?;
     let lambda = args.wavelength;
     if !(lambda.is_finite() && lambda > 0.0) {
-        return Err(CliError::Input(format!(
+        return Err(CliError::input(format!(
             "--wavelength {lambda} must be a positive number of nanometres"
         )));
     }
-    let from = Material::parse(&args.from).map_err(|e| CliError::Input(format!("--from: {e}")))?;
-    let to = Material::parse(&args.to).map_err(|e| CliError::Input(format!("--to: {e}")))?;
+    let from = Material::parse(&args.from).map_err(|e| CliError::input(format!("--from: {e}")))?;
+    let to = Material::parse(&args.to).map_err(|e| CliError::input(format!("--to: {e}")))?;
     let m_from = from.medium(lambda, axis);
     let m_to = to.medium(lambda, axis);
     check_indices(from.name(), &m_from, lambda)?;
     check_indices(to.name(), &m_to, lambda)?;
     let mode = Mode::parse(&args.mode)
-        .ok_or_else(|| CliError::Input(format!("--mode `{}`: expected s, p, o or e", args.mode)))?;
+        .ok_or_else(|| CliError::input(format!("--mode `{}`: expected s, p, o or e", args.mode)))?;
     if !mode.exists_in(&m_from) {
         let has = if m_from.is_isotropic() {
             "it is isotropic: use --mode s or p"
         } else {
             "it is a uniaxial crystal: use --mode o or e"
         };
-        return Err(CliError::Input(format!(
+        return Err(CliError::input(format!(
             "--mode {}: the --from medium {} has no such wave; {has}",
             mode.name(),
             from.name()
         )));
     }
-    let iface = Interface::new(normal, m_from, m_to).map_err(input)?;
+    let iface = Interface::new(normal, m_from, m_to)?;
     if incident.dot(iface.normal()) >= 0.0 {
-        return Err(CliError::Input(format!(
+        return Err(CliError::input(format!(
             "--incident `{}` points away from the interface: --normal points into the \
              --from medium, so an incident wave needs incident · normal < 0",
             args.incident
@@ -163,22 +159,22 @@ pub fn solve(args: &InterfaceArgs) -> Result<(Interface, Scattering), CliError> 
     let scattering = iface
         .solve_direction(Side::Plus, mode, incident)
         .map_err(|e| match e {
-            InterfaceError::NotIncident => CliError::Input(format!(
+            InterfaceError::NotIncident => CliError::input(format!(
                 "--incident `{}`: this {} wave's energy flows away from the interface \
                  (near grazing an extraordinary wave's ray and wave vector can point to \
                  opposite sides of the interface)",
                 args.incident,
                 mode.name()
             )),
-            other => input(other),
+            other => other.into(),
         })?;
     if scattering
         .outgoing
         .iter()
         .any(|o| !o.energy.is_finite() || !o.amplitude.re.is_finite())
     {
-        return Err(CliError::Failed(
-            "the interface solve produced a non-finite value".into(),
+        return Err(CliError::internal(
+            "the interface solve produced a non-finite value",
         ));
     }
     Ok((iface, scattering))
@@ -186,7 +182,7 @@ pub fn solve(args: &InterfaceArgs) -> Result<(Interface, Scattering), CliError> 
 
 pub fn run(args: &InterfaceArgs, out: &mut dyn Write) -> Result<(), CliError> {
     let (iface, sc) = solve(args)?;
-    let io = |e: std::io::Error| CliError::Failed(format!("cannot write output: {e}"));
+    let io = |e: std::io::Error| CliError::internal(format!("cannot write output: {e}"));
     let side_name = |s: Side| {
         if s == sc.incident.side {
             "reflected"

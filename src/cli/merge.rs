@@ -3,7 +3,7 @@
 //! machine would have rendered. Refuses parts of other renders, overlaps,
 //! gaps, half-float and lossy files (exit 2, the error named first).
 
-use super::CliError;
+use super::error::CliError;
 use crate::farm::merge::merge;
 use crate::farm::part::{carried_metadata, raw_image, read_part};
 use crate::farm::progress::{ProgressMode, Reporter};
@@ -29,18 +29,17 @@ pub struct MergeArgs {
 }
 
 pub fn run(args: &MergeArgs) -> Result<(), CliError> {
-    let input = CliError::Input;
     if args
         .output
         .extension()
         .is_none_or(|e| !e.eq_ignore_ascii_case("exr"))
     {
-        return Err(input(format!(
+        return Err(CliError::input(format!(
             "{}: the merged raw file is an .exr file",
             args.output.display()
         )));
     }
-    super::render::check_output(&args.output)?;
+    super::common::check_output(&args.output)?;
     let reporter = Reporter::new(if args.quiet {
         ProgressMode::None
     } else {
@@ -51,9 +50,8 @@ pub fn run(args: &MergeArgs) -> Result<(), CliError> {
         .parts
         .par_iter()
         .map(|p| read_part(p))
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| input(e.to_string()))?;
-    let merged = merge(&parts).map_err(|e| input(e.to_string()))?;
+        .collect::<Result<Vec<_>, _>>()?;
+    let merged = merge(&parts)?;
     let spec = PartSpec::whole(merged.width, merged.height, merged.samples.total);
     let image = raw_image(
         &spec,
@@ -62,9 +60,10 @@ pub fn run(args: &MergeArgs) -> Result<(), CliError> {
         &merged.data,
         &carried_metadata(&parts[0]),
     )
-    .map_err(CliError::Failed)?;
-    crate::image::write(&args.output, &image, WriteOptions::new(PixelType::F32))
-        .map_err(|e| input(e.to_string()))?;
+    // The merged values are checked: an image of them that cannot be
+    // made is spar's failure.
+    .map_err(CliError::internal)?;
+    crate::image::write(&args.output, &image, WriteOptions::new(PixelType::F32))?;
     reporter.event("wrote", &args.output.display().to_string());
     if !args.quiet && !reporter.prints_lines() {
         eprintln!(

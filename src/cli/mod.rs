@@ -3,18 +3,22 @@
 //! with status 1.
 
 use clap::{Parser, Subcommand};
-use std::fmt;
 
+pub mod args;
+pub mod common;
 pub mod compare;
 pub mod contact_sheet;
 pub mod cut;
 pub mod develop;
+pub mod error;
 pub mod interface;
 pub mod merge;
 pub mod plan;
 pub mod plot;
 pub mod render;
 pub mod speed_error;
+
+pub use error::{CliError, ErrorKind};
 
 /// spar: renders polarized light in cut gems and birefringent crystals.
 #[derive(Parser, Debug)]
@@ -64,35 +68,6 @@ pub enum Command {
     #[command(allow_negative_numbers = true)]
     SpeedError(speed_error::SpeedErrorArgs),
 }
-
-/// An error the command line reports.
-#[derive(Debug)]
-pub enum CliError {
-    /// Bad input from the user (flags, scene files, meshes, textures):
-    /// exit status 2.
-    Input(String),
-    /// Anything else that went wrong: exit status 1.
-    Failed(String),
-}
-
-impl CliError {
-    pub fn exit_status(&self) -> i32 {
-        match self {
-            CliError::Input(_) => 2,
-            CliError::Failed(_) => 1,
-        }
-    }
-}
-
-impl fmt::Display for CliError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            CliError::Input(m) | CliError::Failed(m) => f.write_str(m),
-        }
-    }
-}
-
-impl std::error::Error for CliError {}
 
 /// Entry point of the `spar` binary; returns the process exit status.
 pub fn main() -> i32 {

@@ -1,8 +1,9 @@
 //! `spar plan SCENE --tiles N --slurm|--openjd`: print a job that renders
 //! the scene as N tiles on a farm and merges them (docs/farm.md).
 
-use super::render::{check_isa, AccelArgs, SamplesArg, SceneOverrides};
-use super::CliError;
+use super::args::{check_isa, AccelArgs, SamplesArg, SceneOverrides};
+use super::common::check_wavelength;
+use super::error::CliError;
 use crate::farm::plan::Plan;
 use crate::render::output::OutputMode;
 use crate::render::region;
@@ -59,45 +60,39 @@ pub struct PlanArgs {
 }
 
 fn absolute(p: &Path) -> Result<PathBuf, CliError> {
-    std::path::absolute(p).map_err(|e| CliError::Input(format!("{}: {e}", p.display())))
+    std::path::absolute(p).map_err(|e| CliError::input(format!("{}: {e}", p.display())))
 }
 
 pub fn run(args: &PlanArgs, out: &mut dyn Write) -> Result<(), CliError> {
-    let input = CliError::Input;
     if let Some(SamplesArg::Block { .. }) = args.overrides.samples {
-        return Err(input(
-            "spar plan splits the image into tiles: give --samples a count".into(),
+        return Err(CliError::input(
+            "spar plan splits the image into tiles: give --samples a count",
         ));
     }
-    let mut scene = Scene::load(&args.scene).map_err(|e| input(e.to_string()))?;
+    let mut scene = Scene::load(&args.scene)?;
     args.overrides.apply(&mut scene)?;
     if args.threads == 0 {
-        return Err(input("--threads must be at least 1".into()));
+        return Err(CliError::input("--threads must be at least 1"));
     }
     if let Some(isa) = &args.isa {
-        check_isa(isa).map_err(input)?;
+        check_isa(isa)?;
     }
     args.accel.kind(args.isa.as_deref())?;
     let mut modes = args.mode.clone();
     modes.dedup();
     if modes.is_empty() {
-        return Err(input("--mode needs at least one mode".into()));
+        return Err(CliError::input("--mode needs at least one mode"));
     }
-    if !(args.wavelength.is_finite() && (360.0..=830.0).contains(&args.wavelength)) {
-        return Err(input(format!(
-            "--wavelength {} is outside 360–830 nm",
-            args.wavelength
-        )));
-    }
+    check_wavelength(args.wavelength)?;
     region::split(scene.camera.width, scene.camera.height, args.tiles)
-        .map_err(|e| input(format!("--tiles {}: {e}", args.tiles)))?;
+        .map_err(|e| CliError::input(format!("--tiles {}: {e}", args.tiles)))?;
     if args.image.is_empty() || args.image.contains('/') {
-        return Err(input("--image is a file name inside --out-dir".into()));
+        return Err(CliError::input("--image is a file name inside --out-dir"));
     }
     let spar = match &args.spar {
         Some(p) => absolute(p)?,
         None => std::env::current_exe()
-            .map_err(|e| CliError::Failed(format!("cannot find this spar's path: {e}")))?,
+            .map_err(|e| CliError::internal(format!("cannot find this spar's path: {e}")))?,
     };
     let scene_path = absolute(&args.scene)?;
     let out_dir = absolute(&args.out_dir)?;
@@ -135,5 +130,5 @@ pub fn run(args: &PlanArgs, out: &mut dyn Write) -> Result<(), CliError> {
         plan.openjd()
     };
     out.write_all(text.as_bytes())
-        .map_err(|e| CliError::Failed(format!("cannot write the plan: {e}")))
+        .map_err(|e| CliError::internal(format!("cannot write the plan: {e}")))
 }

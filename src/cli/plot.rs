@@ -2,13 +2,53 @@
 //! memory and written through spar's image writer): RMSE against time on
 //! log axes, one colour per mode, the Pareto front joined and labelled.
 
-use super::speed_error::{fronts, Measure, Measured};
-use crate::image::{self, Encoding, Image, PixelType, WriteOptions};
+use super::error::CliError;
+use crate::image::{self, Encoding, Image, ImageError, PixelType, WriteOptions};
 use plotters::prelude::*;
 use std::path::Path;
 use std::sync::OnceLock;
 
 const SIZE: (u32, u32) = (1200, 800);
+
+/// What the plot shows: points (configurations) in time, and for each
+/// series (a measure) every point's error and its Pareto front.
+pub struct Plot {
+    /// Each point's label and time, seconds.
+    pub points: Vec<(String, f64)>,
+    pub series: Vec<Series>,
+}
+
+/// One series of the plot, a colour of its own.
+pub struct Series {
+    /// Its name in the legend (followed by "RMSE").
+    pub name: String,
+    /// The RMSE of each point.
+    pub errors: Vec<f64>,
+    /// The points on its Pareto front, by time.
+    pub front: Vec<usize>,
+}
+
+/// Why the plot could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum PlotError {
+    /// No font for its text, or plotters failed to draw it.
+    #[error("{0}")]
+    Draw(String),
+    /// Its image could not be made or written.
+    #[error(transparent)]
+    Image(#[from] ImageError),
+}
+
+/// A plot that could not be drawn is spar's failure (or its setup's: a
+/// missing font); one that could not be written, an output error.
+impl From<PlotError> for CliError {
+    fn from(e: PlotError) -> CliError {
+        match e {
+            PlotError::Draw(m) => CliError::internal(m),
+            PlotError::Image(e) => e.into(),
+        }
+    }
+}
 
 /// Font files tried for the plot's text (Debian's fonts-dejavu-core, which
 /// spar's setup installs).
@@ -54,20 +94,24 @@ fn decade_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     )
 }
 
+/// A failure of plotters to draw.
+fn drawing(e: impl std::fmt::Display) -> PlotError {
+    PlotError::Draw(format!("plot: {e}"))
+}
+
 /// Draws the plot and writes it to `path` (PNG).
-pub fn pareto_plot(path: &Path, results: &[Measured], modes: &[Measure]) -> Result<(), String> {
-    register_font()?;
+pub fn pareto_plot(path: &Path, plot: &Plot) -> Result<(), PlotError> {
+    register_font().map_err(PlotError::Draw)?;
     let (w, h) = SIZE;
     let mut buf = vec![255u8; (w * h * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut buf, SIZE).into_drawing_area();
-        let err = |e: DrawingAreaErrorKind<_>| format!("plot: {e}");
-        root.fill(&WHITE).map_err(err)?;
-        let (t0, t1) = decade_range(results.iter().map(|r| r.seconds));
+        root.fill(&WHITE).map_err(drawing)?;
+        let (t0, t1) = decade_range(plot.points.iter().map(|p| p.1));
         // Room on the right for the labels of the slowest points.
         let t1 = t1 * 4.0;
         // Exact results (error 0) are drawn at the bottom edge.
-        let (e0, e1) = decade_range(results.iter().flat_map(|r| r.errors.iter().map(|e| e.rmse)));
+        let (e0, e1) = decade_range(plot.series.iter().flat_map(|s| s.errors.iter().copied()));
         let mut chart = ChartBuilder::on(&root)
             .caption(
                 "error against time (Pareto front joined)",
@@ -77,14 +121,14 @@ pub fn pareto_plot(path: &Path, results: &[Measured], modes: &[Measure]) -> Resu
             .x_label_area_size(50)
             .y_label_area_size(80)
             .build_cartesian_2d((t0..t1).log_scale(), (e0..e1).log_scale())
-            .map_err(|e| format!("plot: {e}"))?;
+            .map_err(drawing)?;
         chart
             .configure_mesh()
             .x_desc("time (s)")
             .y_desc("RMSE against the reference")
             .label_style(("sans-serif", 18))
             .draw()
-            .map_err(|e| format!("plot: {e}"))?;
+            .map_err(drawing)?;
         let palette = [
             RGBColor(31, 119, 180),
             RGBColor(214, 39, 40),
@@ -93,39 +137,40 @@ pub fn pareto_plot(path: &Path, results: &[Measured], modes: &[Measure]) -> Resu
             RGBColor(255, 127, 14),
             RGBColor(140, 86, 75),
         ];
-        let fronts = fronts(results, modes.len());
-        for (k, mode) in modes.iter().enumerate() {
+        for (k, series) in plot.series.iter().enumerate() {
             let colour = palette[k % palette.len()];
-            let pts: Vec<(f64, f64)> = results
+            let pts: Vec<(f64, f64)> = plot
+                .points
                 .iter()
-                .map(|r| (r.seconds, r.errors[k].rmse.max(e0)))
+                .zip(&series.errors)
+                .map(|(p, &e)| (p.1, e.max(e0)))
                 .collect();
             chart
                 .draw_series(
                     pts.iter()
                         .map(|&p| Circle::new(p, 4, colour.mix(0.5).filled())),
                 )
-                .map_err(|e| format!("plot: {e}"))?
-                .label(format!("{} RMSE", mode.name()))
+                .map_err(drawing)?
+                .label(format!("{} RMSE", series.name))
                 .legend(move |(x, y)| Circle::new((x + 10, y), 5, colour.filled()));
-            let front = &fronts[k];
+            let front = &series.front;
             chart
                 .draw_series(LineSeries::new(
                     front.iter().map(|&i| pts[i]),
                     colour.stroke_width(2),
                 ))
-                .map_err(|e| format!("plot: {e}"))?;
+                .map_err(drawing)?;
             for &i in front {
                 chart
                     .draw_series(std::iter::once(Circle::new(pts[i], 6, colour.filled())))
-                    .map_err(|e| format!("plot: {e}"))?;
+                    .map_err(drawing)?;
                 chart
                     .draw_series(std::iter::once(Text::new(
-                        results[i].config.label.clone(),
+                        plot.points[i].0.clone(),
                         pts[i],
                         ("sans-serif", 14).into_font().color(&colour),
                     )))
-                    .map_err(|e| format!("plot: {e}"))?;
+                    .map_err(drawing)?;
             }
         }
         chart
@@ -134,8 +179,8 @@ pub fn pareto_plot(path: &Path, results: &[Measured], modes: &[Measure]) -> Resu
             .border_style(BLACK)
             .label_font(("sans-serif", 18))
             .draw()
-            .map_err(|e| format!("plot: {e}"))?;
-        root.present().map_err(err)?;
+            .map_err(drawing)?;
+        root.present().map_err(drawing)?;
     }
     let data: Vec<f32> = buf.iter().map(|&b| b as f32 / 255.0).collect();
     let img = Image::new(
@@ -143,12 +188,11 @@ pub fn pareto_plot(path: &Path, results: &[Measured], modes: &[Measure]) -> Resu
         h as usize,
         vec!["R".into(), "G".into(), "B".into()],
         data,
-    )
-    .map_err(|e| e.to_string())?;
+    )?;
     image::write(
         path,
         &img,
         WriteOptions::new(PixelType::U8).with_encoding(Encoding::Srgb),
-    )
-    .map_err(|e| e.to_string())
+    )?;
+    Ok(())
 }

@@ -41,7 +41,7 @@ pub fn save(path: &Path, key: &str, tiles: &[&TileData]) -> std::io::Result<()> 
     }
     let sum = fnv(&buf);
     buf.extend_from_slice(&sum.to_le_bytes());
-    crate::atomic_file::write(path, &buf)
+    crate::atomic_file::write(path, &buf).map_err(|e| e.source)
 }
 
 /// Why a checkpoint cannot be used.

@@ -53,15 +53,7 @@ pub fn accel(
     threads: usize,
     isa: Option<&str>,
 ) -> Result<Box<dyn Intersector>, PrepareError> {
-    if !kind.available() {
-        return Err(PrepareError::Unavailable(kind));
-    }
-    if let (Some(isa), false) = (isa, kind == AccelKind::Embree) {
-        return Err(PrepareError::IsaNotEmbree {
-            kind,
-            isa: isa.to_string(),
-        });
-    }
+    check_backend(kind, isa)?;
     let verts: Vec<Vec<[f32; 3]>> = scene
         .objects
         .iter()
@@ -84,6 +76,21 @@ pub fn accel(
         )),
         _ => crate::accel::build(kind, &meshes, threads).map_err(PrepareError::Build),
     }
+}
+
+/// Refuses a backend this build lacks, and an instruction set pinned for
+/// any backend but Embree.
+pub fn check_backend(kind: AccelKind, isa: Option<&str>) -> Result<(), PrepareError> {
+    if !kind.available() {
+        return Err(PrepareError::Unavailable(kind));
+    }
+    if let (Some(isa), false) = (isa, kind == AccelKind::Embree) {
+        return Err(PrepareError::IsaNotEmbree {
+            kind,
+            isa: isa.to_string(),
+        });
+    }
+    Ok(())
 }
 
 /// The wavelengths `modes` need: the scene's colour wavelengths for the

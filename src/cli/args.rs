@@ -1,0 +1,441 @@
+//! Argument types that several commands share: the intersection backend
+//! (`--accel`), the render-farm flags, the scene overrides (`--samples`,
+//! `--resolution`, `--quality`, …) and their parsers and checks.
+
+use super::common::film_bytes;
+use super::error::CliError;
+use crate::accel::AccelKind;
+use crate::render::blocks::SampleRange;
+use crate::render::prepare;
+use crate::farm::progress::ProgressMode;
+use crate::render::region::{Rect, TileSpec};
+use crate::render::approx::{self, BranchingArg, PolarizationArg, Spectral};
+use crate::render::quality::Quality;
+use crate::scene::Scene;
+use crate::spectrum::WavelengthSet;
+use std::path::PathBuf;
+
+/// `--accel`: the intersection backend of every command that traces.
+#[derive(clap::Args, Debug, Clone, Copy, Default)]
+pub struct AccelArgs {
+    /// Intersection backend: embree (Embree 3; the default in builds with
+    /// the `native` feature) or rust (spar's own BVH; the default without
+    /// it). They can hit different triangles at edges, so farm parts of
+    /// different backends do not merge.
+    #[arg(long, value_enum)]
+    pub accel: Option<AccelKind>,
+}
+
+impl AccelArgs {
+    /// The backend asked for (or this build's default), checked to be in
+    /// this build and, with an `--isa`, to be Embree.
+    pub fn kind(&self, isa: Option<&str>) -> Result<AccelKind, CliError> {
+        let kind = self.accel.unwrap_or_default();
+        check_accel(kind, isa)?;
+        Ok(kind)
+    }
+}
+
+/// Refuses a backend this build lacks, and `--isa` with any backend but
+/// Embree (exit status 2), before anything is loaded; the check is
+/// [`prepare::check_backend`]'s, which every render passes.
+pub fn check_accel(kind: AccelKind, isa: Option<&str>) -> Result<(), CliError> {
+    Ok(prepare::check_backend(kind, isa)?)
+}
+
+/// The render-farm flags of `spar render`.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct FarmArgs {
+    /// Render only the pixels x from X0 to X1 and y from Y0 to Y1 (ends
+    /// exclusive; `--region 0,64,0,32` is the top-left 64x32) into a raw
+    /// EXR part.
+    #[arg(
+        long,
+        value_name = "X0,X1,Y0,Y1",
+        value_parser = Rect::parse,
+        conflicts_with = "tile",
+        allow_hyphen_values = true
+    )]
+    pub region: Option<Rect>,
+    /// Render tile I of the N-way split spar computes (I counts from 0)
+    /// into a raw EXR part.
+    #[arg(long, value_parser = TileSpec::parse)]
+    pub tile: Option<TileSpec>,
+    /// Write the raw per-pixel sums (float32 EXR) instead of images, also
+    /// for a whole render; `spar develop` makes the images.
+    #[arg(long)]
+    pub raw: bool,
+    /// Pin Embree's instruction set: sse2, sse4.2, avx, avx2, avx512.
+    /// Machines of a farm that differ in ISA can hit different triangles
+    /// at edges; pin one for all of them.
+    #[arg(long)]
+    pub isa: Option<String>,
+    /// Progress: auto (a bar on a terminal, else plain lines), bar, plain
+    /// (`spar: progress …` lines on stdout), openjd (`openjd_progress: N`),
+    /// none.
+    #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
+    pub progress: ProgressMode,
+    /// Checkpoint file written on SIGTERM, SIGINT or SIGUSR1 (default: the
+    /// output's name with `.checkpoint` appended).
+    #[arg(long)]
+    pub checkpoint: Option<PathBuf>,
+    /// Continue from the checkpoint if there is one (and start afresh if
+    /// there is none).
+    #[arg(long)]
+    pub resume: bool,
+}
+
+/// `--samples`: a count per pixel, or a block of samples.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SamplesArg {
+    /// `N`: samples per pixel.
+    Count(u32),
+    /// `k0..k1` or `k0..k1/N`: samples k0 to k1 (exclusive) of the
+    /// scene's count, or of N.
+    Block {
+        start: u32,
+        end: u32,
+        total: Option<u32>,
+    },
+}
+
+fn parse_samples(s: &str) -> Result<SamplesArg, String> {
+    let num = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("`{s}` is not N, k0..k1 or k0..k1/N"))
+    };
+    if !s.contains("..") {
+        return Ok(SamplesArg::Count(num(s)?));
+    }
+    let (range, total) = s.split_once('/').map_or((s, None), |(r, t)| (r, Some(t)));
+    let (a, b) = range.split_once("..").expect("checked above");
+    let (start, end) = (num(a)?, num(b)?);
+    let total = total.map(num).transpose()?;
+    if start >= end {
+        return Err(format!("`{s}`: a sample block k0..k1 needs k0 < k1"));
+    }
+    Ok(SamplesArg::Block { start, end, total })
+}
+
+/// Settings that override a scene file's.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct SceneOverrides {
+    /// Wavelengths of the color mode: a count over 380–780 nm, one
+    /// wavelength (580nm) or a list (450,550,650). Overrides the scene.
+    #[arg(long)]
+    pub wavelengths: Option<String>,
+    /// Samples per pixel (overrides the scene); for `spar render`, also a
+    /// block of them: `k0..k1` (of the scene's count) or `k0..k1/N`.
+    #[arg(long, value_parser = parse_samples)]
+    pub samples: Option<SamplesArg>,
+    /// Image size WIDTHxHEIGHT (overrides the scene).
+    #[arg(long, value_parser = parse_resolution)]
+    pub resolution: Option<(u32, u32)>,
+    /// Largest number of surface interactions along a path (overrides the
+    /// scene).
+    #[arg(long)]
+    pub max_depth: Option<u32>,
+    /// Pruning threshold: skip subtrees that can contribute less than this
+    /// fraction of the brightest emitter; 0 disables (overrides the scene).
+    #[arg(long)]
+    pub prune: Option<f64>,
+    /// Random seed (overrides the scene).
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// A preset of depth, pruning and approximations (branching,
+    /// polarization model, spectral sampling, dispersion) chosen from the
+    /// measured speed-against-error front (docs/speed-vs-error.md): draft
+    /// (dispersion off, pruning 1e-3), default (the exact tree, pruning
+    /// 1e-4) or reference (pruning 1e-6), all at depth 30. Wavelengths and
+    /// samples are left as they are. Other flags given with it win.
+    #[arg(long, value_parser = clap::value_parser!(Quality))]
+    pub quality: Option<Quality>,
+    /// Branch strategy: full (every feeder), stochastic (one feeder per
+    /// node, chosen by energy: unbiased, noisy) or hybrid:K (full for K
+    /// interactions, then stochastic). Overrides the scene.
+    #[arg(long, value_parser = clap::value_parser!(BranchingArg))]
+    pub branching: Option<BranchingArg>,
+    /// Polarization model: full (coherence matrices) or scalar (unpolarized
+    /// intensities, an approximation). Overrides the scene.
+    #[arg(long, value_parser = clap::value_parser!(PolarizationArg))]
+    pub polarization: Option<PolarizationArg>,
+    /// Spectral sampling of the colour wavelengths: all (every one for
+    /// every sample) or hero:K (K stratified wavelengths per sample,
+    /// rotating across samples). Overrides the scene.
+    #[arg(long, value_parser = clap::value_parser!(Spectral))]
+    pub spectral: Option<Spectral>,
+    /// Dispersion on, off (every wavelength follows the paths of
+    /// 587.56 nm) or bands:K (K bands of wavelength, each following the
+    /// paths of its middle). Overrides the scene.
+    #[arg(long, value_parser = clap::value_parser!(approx::DispersionMode))]
+    pub dispersion: Option<approx::DispersionMode>,
+}
+
+impl SceneOverrides {
+    /// Applies the overrides to a scene, checked like the scene's own values.
+    /// A sample block is refused (only `spar render` takes one).
+    pub fn apply(&self, scene: &mut Scene) -> Result<(), CliError> {
+        if let Some(SamplesArg::Block { .. }) = self.samples {
+            return Err(CliError::input(
+                "--samples k0..k1 (a sample block) is for spar render; give a count",
+            ));
+        }
+        self.apply_with_block(scene).map(|_| ())
+    }
+
+    /// Applies the overrides and returns the sample block asked for, if
+    /// any, checked against the scene's sample count.
+    pub fn apply_with_block(&self, scene: &mut Scene) -> Result<Option<SampleRange>, CliError> {
+        if let Some(q) = self.quality {
+            q.apply(&mut scene.settings);
+        }
+        if let Some(b) = self.branching {
+            scene.settings.approx.strategy.branching = b.0;
+        }
+        if let Some(p) = self.polarization {
+            scene.settings.approx.strategy.polarization = p.0;
+        }
+        if let Some(s) = self.spectral {
+            scene.settings.approx.spectral = s;
+        }
+        if let Some(d) = self.dispersion {
+            scene.settings.approx.dispersion = d;
+        }
+        if let Some(spec) = &self.wavelengths {
+            check_wavelength_count(spec)?;
+            scene.settings.wavelengths = WavelengthSet::parse(spec)
+                .map_err(|e| CliError::input(format!("--wavelengths: {e}")))?;
+        }
+        let mut block = None;
+        match self.samples {
+            Some(SamplesArg::Count(0)) | Some(SamplesArg::Block { total: Some(0), .. }) => {
+                return Err(CliError::input("--samples must be at least 1"));
+            }
+            Some(SamplesArg::Count(s)) => scene.samples = s,
+            Some(SamplesArg::Block { start, end, total }) => {
+                if let Some(t) = total {
+                    scene.samples = t;
+                }
+                block = Some(SampleRange::new(start, end, scene.samples).ok_or_else(|| {
+                    CliError::input(format!(
+                        "--samples {start}..{end}: the block must lie within the {} samples per pixel",
+                        scene.samples
+                    ))
+                })?);
+            }
+            None => {}
+        }
+        if let Some((w, h)) = self.resolution {
+            if w > MAX_SIDE || h > MAX_SIDE {
+                let n = scene.settings.wavelengths.len();
+                let need = film_bytes(w as u64 * h as u64, n, 1) / crate::farm::memory::GIB;
+                return Err(CliError::input(format!(
+                    "--resolution {w}x{h}: at most {MAX_SIDE} pixels per side (its film at {n} \
+                     wavelength(s) would need about {need:.1} GiB of memory; {})",
+                    crate::farm::memory::available().describe()
+                )));
+            }
+            scene.camera = scene.camera.clone().with_resolution(w, h);
+        }
+        if let Some(d) = self.max_depth {
+            if d > 1000 {
+                return Err(CliError::input("--max-depth must be at most 1000"));
+            }
+            scene.settings.max_depth = d;
+        }
+        if let Some(p) = self.prune {
+            if !(p.is_finite() && p >= 0.0) {
+                return Err(CliError::input("--prune must be a number ≥ 0"));
+            }
+            scene.settings.prune = p;
+        }
+        if let Some(s) = self.seed {
+            scene.settings.seed = s;
+        }
+        Ok(block)
+    }
+
+    /// The overrides as command-line arguments (for job scripts).
+    pub fn to_args(&self) -> Vec<String> {
+        let mut a = Vec::new();
+        if let Some(w) = &self.wavelengths {
+            a.extend(["--wavelengths".into(), w.clone()]);
+        }
+        match self.samples {
+            Some(SamplesArg::Count(n)) => a.extend(["--samples".into(), n.to_string()]),
+            Some(SamplesArg::Block { start, end, total }) => a.extend([
+                "--samples".into(),
+                match total {
+                    Some(t) => format!("{start}..{end}/{t}"),
+                    None => format!("{start}..{end}"),
+                },
+            ]),
+            None => {}
+        }
+        if let Some((w, h)) = self.resolution {
+            a.extend(["--resolution".into(), format!("{w}x{h}")]);
+        }
+        if let Some(d) = self.max_depth {
+            a.extend(["--max-depth".into(), d.to_string()]);
+        }
+        if let Some(p) = self.prune {
+            a.extend(["--prune".into(), format!("{p:?}")]);
+        }
+        if let Some(s) = self.seed {
+            a.extend(["--seed".into(), s.to_string()]);
+        }
+        if let Some(q) = self.quality {
+            a.extend(["--quality".into(), q.to_string()]);
+        }
+        if let Some(b) = self.branching {
+            a.extend(["--branching".into(), b.to_string()]);
+        }
+        if let Some(p) = self.polarization {
+            a.extend(["--polarization".into(), p.to_string()]);
+        }
+        if let Some(s) = self.spectral {
+            a.extend(["--spectral".into(), s.to_string()]);
+        }
+        if let Some(d) = self.dispersion {
+            a.extend(["--dispersion".into(), d.to_string()]);
+        }
+        a
+    }
+}
+
+/// The largest image side (scene files' `camera.resolution` has the same
+/// bound).
+pub const MAX_SIDE: u32 = 65536;
+
+/// Refuses a `--wavelengths` count above the scene format's bound before
+/// the set is built (its list alone could exhaust memory).
+fn check_wavelength_count(spec: &str) -> Result<(), CliError> {
+    let max = crate::scene::file::MAX_WAVELENGTHS;
+    match spec.trim().parse::<u128>() {
+        Ok(n) if n > max as u128 => Err(CliError::input(format!(
+            "--wavelengths {n}: at most {max} wavelengths (0.04 nm apart; a 256x256 film of \
+             {n} would need about {:.1} GiB of memory)",
+            film_bytes(256 * 256, n.min(usize::MAX as u128) as usize, 1) / crate::farm::memory::GIB
+        ))),
+        _ => Ok(()),
+    }
+}
+
+fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("`{s}` is not WIDTHxHEIGHT"))?;
+    let p = |v: &str| v.trim().parse::<u32>().ok().filter(|&v| v >= 1);
+    // The side limit is checked with the scene (SceneOverrides), where
+    // the message can say what the film would cost.
+    match (p(w), p(h)) {
+        (Some(w), Some(h)) => Ok((w, h)),
+        _ => Err(format!(
+            "`{s}`: width and height must be whole numbers from 1 to {MAX_SIDE}"
+        )),
+    }
+}
+
+/// Embree ISA names `--isa` takes (Embree 3's device config; it silently
+/// falls back to SSE2 for any other name, so spar checks them).
+pub const ISAS: [&str; 5] = ["sse2", "sse4.2", "avx", "avx2", "avx512"];
+
+/// Checks an `--isa` name and that this CPU has the instruction set.
+pub fn check_isa(name: &str) -> Result<(), CliError> {
+    if !ISAS.contains(&name) {
+        return Err(CliError::input(format!(
+            "--isa {name}: unknown instruction set; Embree 3 takes {}",
+            ISAS.join(", ")
+        )));
+    }
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::is_x86_feature_detected as has;
+        let missing: Vec<&str> = match name {
+            "sse2" => vec![],
+            "sse4.2" => [("sse4.2", has!("sse4.2"))]
+                .iter()
+                .filter(|f| !f.1)
+                .map(|f| f.0)
+                .collect(),
+            "avx" => [("avx", has!("avx"))]
+                .iter()
+                .filter(|f| !f.1)
+                .map(|f| f.0)
+                .collect(),
+            "avx2" => [
+                ("avx2", has!("avx2")),
+                ("fma", has!("fma")),
+                ("bmi1", has!("bmi1")),
+                ("bmi2", has!("bmi2")),
+                ("lzcnt", has!("lzcnt")),
+            ]
+            .iter()
+            .filter(|f| !f.1)
+            .map(|f| f.0)
+            .collect(),
+            _ => [
+                ("avx512f", has!("avx512f")),
+                ("avx512dq", has!("avx512dq")),
+                ("avx512cd", has!("avx512cd")),
+                ("avx512bw", has!("avx512bw")),
+                ("avx512vl", has!("avx512vl")),
+            ]
+            .iter()
+            .filter(|f| !f.1)
+            .map(|f| f.0)
+            .collect(),
+        };
+        if !missing.is_empty() {
+            return Err(CliError::input(format!(
+                "--isa {name}: this CPU lacks {}",
+                missing.join(", ")
+            )));
+        }
+        Ok(())
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    Err(CliError::input(format!(
+        "--isa {name}: instruction sets can be pinned on x86-64 only"
+    )))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn samples_take_a_count_or_a_block() {
+        assert_eq!(parse_samples("64"), Ok(SamplesArg::Count(64)));
+        assert_eq!(
+            parse_samples("16..32"),
+            Ok(SamplesArg::Block {
+                start: 16,
+                end: 32,
+                total: None
+            })
+        );
+        assert_eq!(
+            parse_samples("0..8/64"),
+            Ok(SamplesArg::Block {
+                start: 0,
+                end: 8,
+                total: Some(64)
+            })
+        );
+        assert!(parse_samples("8..8").is_err());
+        assert!(parse_samples("a..8").is_err());
+        assert!(parse_samples("-1").is_err());
+    }
+
+    #[test]
+    fn isa_names_are_checked() {
+        assert!(check_isa("sse2").is_ok());
+        assert!(check_isa("avx512skx").is_err());
+        assert!(check_isa("bogus")
+            .unwrap_err()
+            .to_string()
+            .contains("sse4.2"));
+    }
+}
