@@ -11,7 +11,9 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, thiserror::Error)]
 #[error("{}: {source}", path.display())]
 pub struct WriteError {
+    /// The file that was to be written.
     pub path: PathBuf,
+    /// Why it could not be.
     #[source]
     pub source: std::io::Error,
 }

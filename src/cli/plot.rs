@@ -15,6 +15,7 @@ const SIZE: (u32, u32) = (1200, 800);
 pub struct Plot {
     /// Each point's label and time, seconds.
     pub points: Vec<(String, f64)>,
+    /// The measures drawn, one colour each.
     pub series: Vec<Series>,
 }
 

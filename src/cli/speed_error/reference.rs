@@ -32,6 +32,7 @@ pub struct Setup {
     pub mono_nm: f64,
     /// Worker threads (0: all cores).
     pub threads: usize,
+    /// The intersection backend.
     pub accel: AccelKind,
     /// No progress or table.
     pub quiet: bool,

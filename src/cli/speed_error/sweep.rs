@@ -136,9 +136,11 @@ pub const DEFAULT_SWEEP: &[&str] = &[
 /// A run's configurations and its reference's, each applied to the
 /// scene: all checked before anything is rendered or written.
 pub struct Sweep {
+    /// The configurations measured, in order.
     pub configs: Vec<Config>,
     /// The scene under each configuration.
     pub scenes: Vec<Scene>,
+    /// The reference's configuration.
     pub reference: Config,
     /// The scene under the reference's configuration.
     pub reference_scene: Scene,
