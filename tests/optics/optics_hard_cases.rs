@@ -3,11 +3,9 @@
 //! within 1e-9 of it. Everything must stay finite, conserve energy, and be
 //! continuous. Each tolerance is stated and justified where it is used.
 
-mod optics_common;
-
+use crate::support::optics::*;
 use glam::{DQuat, DVec3};
 use num_complex::Complex64;
-use optics_common::*;
 use spar::optics::linalg::CVec3;
 use spar::optics::{Interface, Medium, Mode, Scattering, Side, WaveKind};
 

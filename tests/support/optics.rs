@@ -2,7 +2,6 @@
 //! (seeded), incident-wave sampling and small linear-algebra checks. Every
 //! physical reference value a test asserts is computed in the test itself,
 //! never by the code under test.
-#![allow(dead_code)]
 
 use glam::DVec3;
 use num_complex::Complex64;

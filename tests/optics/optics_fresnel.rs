@@ -10,11 +10,9 @@
 //! reflection their phases are B&W 1.5 (60), whose time factor is also
 //! exp(−iωt).
 
-mod optics_common;
-
+use crate::support::optics::*;
 use glam::DVec3;
 use num_complex::Complex64;
-use optics_common::*;
 use spar::optics::linalg::CVec3;
 use spar::optics::{Interface, Medium, Mode, Scattering, Side};
 

@@ -31,11 +31,9 @@
 //! ratio of error to B over 400 000 such cases was 1.12). 99% of these
 //! cases still meet 1e-12 outright; the test prints the count.
 
-mod optics_common;
-
+use crate::support::optics::*;
 use glam::DVec3;
 use num_complex::Complex64;
-use optics_common::*;
 use rand::Rng;
 use spar::optics::modes::Travel;
 use spar::optics::{Eigenwave, Interface, Medium, Mode, Side, WaveKind};

@@ -4,11 +4,9 @@
 //! for every eigenwave, and the energy rule for choosing roots. Expected
 //! values are computed here from their own formulas.
 
-mod optics_common;
-
+use crate::support::optics::*;
 use glam::DVec3;
 use num_complex::Complex64;
-use optics_common::*;
 use rand::Rng;
 use spar::optics::linalg::CVec3;
 use spar::optics::{Eigenwave, Interface, Medium, Mode, Scattering, Side};

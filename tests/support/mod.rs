@@ -1,0 +1,6 @@
+//! Helpers the integration-test crates share, in one place: every crate
+//! under `tests/` includes this module (`#[path = "../support/mod.rs"] mod
+//! support;`) and uses the parts it needs.
+#![allow(dead_code)]
+
+pub mod optics;
