@@ -3,4 +3,5 @@
 //! support;`) and uses the parts it needs.
 #![allow(dead_code)]
 
+pub mod image;
 pub mod optics;

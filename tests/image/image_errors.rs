@@ -4,9 +4,7 @@
 //! read}` (OpenImageIO in a native build, else the pure-Rust codecs) and,
 //! in a native build, `spar::image::pure` as well.
 
-mod image_common;
-
-use image_common::{backends, Backend};
+use crate::support::image::{backends, Backend};
 use spar::image::{self, Cause, Image, ImageError, PixelType, WriteOptions};
 use std::fs;
 use std::path::Path;

@@ -4,7 +4,7 @@
 //! through both. Needs OpenImageIO, so the native build only.
 #![cfg(feature = "native")]
 
-mod image_common;
+use crate::support::image as image_common;
 
 use image_common::{assert_close, bits, names, patterned, unit, Backend, DEFAULT, PURE};
 use spar::image::{AlphaMode, Encoding, Image, PixelType, WriteOptions};

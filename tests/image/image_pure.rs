@@ -3,9 +3,7 @@
 //! every build, so these tests run in both; without the `native` feature
 //! it is also what `spar::image::{write, read}` use (checked at the end).
 
-mod image_common;
-
-use image_common::{assert_close, bits, names, patterned, srgb_decode, srgb_encode, unit};
+use crate::support::image::{assert_close, bits, names, patterned, srgb_decode, srgb_encode, unit};
 use spar::image::pure::{read, write};
 use spar::image::{AlphaMode, Cause, Encoding, Image, ImageError, PixelType, WriteOptions};
 use std::fs;

@@ -1,6 +1,5 @@
 //! Shared helpers of the image tests: test patterns, tolerances, the sRGB
 //! curve for checking values, and the image backends of this build.
-#![allow(dead_code)]
 
 use spar::image::{self, Image, ImageError, WriteOptions};
 use std::path::Path;
