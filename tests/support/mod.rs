@@ -3,5 +3,6 @@
 //! support;`) and uses the parts it needs.
 #![allow(dead_code)]
 
+pub mod accel;
 pub mod image;
 pub mod optics;

@@ -11,9 +11,7 @@
 //! vertices and the origin can cause), and t may differ only by the δ move
 //! of the triangle's plane.
 
-mod accel_common;
-
-use accel_common::{gems, rays_from_inside, rays_from_outside, reference, TestMesh};
+use crate::support::accel::{gems, rays_from_inside, rays_from_outside, reference, TestMesh};
 use glam::DVec3;
 use rayon::prelude::*;
 use spar::accel::bvh::RustBvh;

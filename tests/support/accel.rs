@@ -1,6 +1,5 @@
 //! What the intersection tests share: the shipped gems, a random triangle
 //! soup, ray generators, and an f64 reference for one ray and one triangle.
-#![allow(dead_code)] // each test file uses its own part
 
 use glam::DVec3;
 use rand::{Rng, SeedableRng};

@@ -7,7 +7,7 @@
 //! right, and f32 rounding decides. Those rays are counted and reported.
 #![cfg(feature = "native")]
 
-mod accel_common;
+use crate::support::accel as accel_common;
 
 use accel_common::{gems, rays_from_inside, rays_from_outside, reference, triangle_soup, TestMesh};
 use glam::DVec3;

@@ -5,7 +5,7 @@
 //! epsilon, or a box test that rounds the wrong way, loses some of these.
 //! Runs on the Rust BVH always, and on Embree too when built with it.
 
-mod accel_common;
+use crate::support::accel as accel_common;
 
 use accel_common::{gems, inside_convex, TestMesh};
 use glam::DVec3;

@@ -3,7 +3,7 @@
 //! the meaning of `t`, `prim`, `geom`, `u`, `v` and `ng`, the ray interval,
 //! two-sided triangles, degenerate input, and the `build` selector.
 
-mod accel_common;
+use crate::support::accel as accel_common;
 
 use accel_common::random_direction;
 use glam::DVec3;
