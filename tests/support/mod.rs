@@ -5,4 +5,6 @@
 
 pub mod accel;
 pub mod image;
+pub mod mesh;
 pub mod optics;
+pub mod run;

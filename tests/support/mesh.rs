@@ -1,8 +1,9 @@
 //! Shared helper of the mesh tests: `spar render` of a small scene around
 //! one mesh file, as a user would run it.
 
+use super::run::spar;
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
 /// Writes `scene.toml` around `mesh` (a file in `dir`) and runs
 /// `spar render scene.toml --resolution 8x8 --samples 1 --quiet -o out.png`
@@ -14,8 +15,9 @@ pub fn render_mesh(dir: &Path, mesh: &str) -> Output {
          [[light]]\ncorners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, -1.5]]\n"
     );
     std::fs::write(dir.join("scene.toml"), scene).unwrap();
-    Command::new(env!("CARGO_BIN_EXE_spar"))
-        .args([
+    spar(
+        dir,
+        &[
             "render",
             "scene.toml",
             "--resolution",
@@ -25,8 +27,6 @@ pub fn render_mesh(dir: &Path, mesh: &str) -> Output {
             "--quiet",
             "-o",
             "out.png",
-        ])
-        .current_dir(dir)
-        .output()
-        .unwrap()
+        ],
+    )
 }

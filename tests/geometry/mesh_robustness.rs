@@ -8,7 +8,7 @@ use spar::geometry::validate::{load_mesh, mesh_from_bytes};
 use spar::geometry::Mesh;
 use std::path::Path;
 
-mod mesh_common;
+use crate::support::mesh as mesh_common;
 
 /// A unit cube as OBJ (vertex 8 given), faces counter-clockwise from outside.
 fn cube_obj(v8: &str) -> String {

@@ -14,7 +14,7 @@ use spar::geometry::validate::{mesh_from_bytes, LoadedMesh};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 
-mod mesh_common;
+use crate::support::mesh as mesh_common;
 
 /// A mesh file: its name and bytes.
 type Case = (String, Vec<u8>);
