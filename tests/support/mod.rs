@@ -4,7 +4,10 @@
 #![allow(dead_code)]
 
 pub mod accel;
+pub mod farm;
+pub mod fuzz;
 pub mod image;
 pub mod mesh;
 pub mod optics;
+pub mod render;
 pub mod run;

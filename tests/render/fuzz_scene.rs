@@ -7,7 +7,7 @@
 //! panic. A sample of the mutants goes through `spar render`: exit 0 or 2,
 //! never a crash; no output file on 2; no NaN in an image written.
 
-mod fuzz_common;
+use crate::support::fuzz as fuzz_common;
 
 use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;

@@ -10,7 +10,7 @@
 //! around its polygon, and 6.6% of one pixel's light is still inside after
 //! 40 interactions. The brilliant from above has no such loop within 40.
 
-mod common;
+use crate::support::render as common;
 use common::*;
 
 fn furnace(medium: &str, axis: &str, depth: u32, prune: f64, res: u32) -> String {

@@ -2,8 +2,7 @@
 //! automatic shortcuts give the image of the general path, and the sampled
 //! knobs (hero wavelengths, stochastic branching) are unbiased.
 
-mod common;
-use common::*;
+use crate::support::render::*;
 use spar::render::approx::{DispersionMode, Spectral, NO_DISPERSION_NM};
 use spar::render::integrator::Branching;
 

@@ -6,7 +6,7 @@
 //! Every test runs on each intersection backend of the build
 //! (`embree::…`, `rust::…`).
 
-mod common;
+use crate::support::render as common;
 use common::*;
 use spar::accel::AccelKind;
 

@@ -8,10 +8,8 @@
 //! samples no part holds). Through the binary: exit 0 or 2, never a
 //! crash, no output on 2.
 
-mod farm_common;
-mod fuzz_common;
-
-use farm_common::{spar_ok, write_scene};
+use crate::support::farm::write_scene;
+use crate::support::run::spar_ok;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use spar::farm::merge::merge;

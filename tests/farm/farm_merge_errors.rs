@@ -5,9 +5,10 @@
 //! `spar develop` refuses a part.
 #![cfg(feature = "native")]
 
-mod farm_common;
+use crate::support::farm as farm_common;
 
-use farm_common::{spar, spar_ok, write_scene};
+use crate::support::run::{spar, spar_ok};
+use farm_common::write_scene;
 use spar::image::{PixelType, WriteOptions};
 use std::path::Path;
 

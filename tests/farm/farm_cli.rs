@@ -5,9 +5,8 @@
 //! `--isa`; `spar plan`'s scripts; bad farm flags exit 2.
 #![cfg(feature = "native")]
 
-mod farm_common;
-
-use farm_common::{pixel_bits, spar, spar_ok, write_scene};
+use crate::support::farm::{pixel_bits, write_scene};
+use crate::support::run::{spar, spar_ok};
 use std::io::{BufRead, BufReader};
 use std::path::Path;
 use std::process::{Command, Stdio};

@@ -3,7 +3,7 @@
 //! part written to and read back from its EXR file, merged in a random
 //! order. And a render stopped and resumed equals an uninterrupted one.
 
-mod farm_common;
+use crate::support::farm as farm_common;
 
 use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};

@@ -1,7 +1,6 @@
 //! Shared helpers of the render tests: scenes from TOML text with meshes
 //! written to a temporary directory, rendered through the library with
 //! either intersection backend.
-#![allow(dead_code)]
 
 use spar::accel::AccelKind;
 use spar::render::film::Film;
@@ -30,7 +29,7 @@ pub fn backends() -> Vec<AccelKind> {
 
 /// Runs each named test function (`fn name(accel: AccelKind)`) once per
 /// backend of this build, as tests `embree::name` and `rust::name`.
-#[macro_export]
+#[allow(unused_macros)] // in the crates whose tests do not
 macro_rules! on_every_backend {
     ($($name:ident),* $(,)?) => {
         #[cfg(feature = "native")]
@@ -52,6 +51,10 @@ macro_rules! on_every_backend {
         }
     };
 }
+
+// Importable as `support::render::on_every_backend` by any crate.
+#[allow(unused_imports)]
+pub(crate) use on_every_backend;
 
 /// Renders at the given wavelengths with the scene's settings and this
 /// build's default backend.

@@ -1,6 +1,5 @@
 //! Seeded, deterministic mutations of text and bytes for the fuzz tests
 //! (stable Rust: a mutation loop under `cargo test`, no fuzzing engine).
-#![allow(dead_code)]
 
 use rand::Rng;
 use rand_pcg::Pcg64Mcg;

@@ -4,7 +4,7 @@
 //! named; a distant camera loses no rays on either backend; a render that
 //! loses more than 1e-4 of its rays says so and why.
 
-mod common;
+use crate::support::render as common;
 
 use common::{box_obj, render_with, scene};
 use glam::DVec3;

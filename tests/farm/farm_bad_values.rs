@@ -3,9 +3,8 @@
 //! them — exit status 2, the file, the first pixel, the channel and the
 //! count named, no output written.
 
-mod farm_common;
-
-use farm_common::{spar, spar_ok, write_scene};
+use crate::support::farm::write_scene;
+use crate::support::run::{spar, spar_ok};
 use spar::image::{PixelType, WriteOptions};
 use std::path::Path;
 

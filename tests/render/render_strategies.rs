@@ -3,7 +3,7 @@
 //! within the statistical error they themselves show), and a wavelength
 //! batch that shares its geometry gives exactly the per-wavelength trees.
 
-mod common;
+use crate::support::render as common;
 use glam::DVec3;
 use spar::optics::Coherence;
 use spar::render::integrator::{

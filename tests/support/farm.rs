@@ -1,9 +1,7 @@
-//! Shared helpers of the render-farm tests: a small gem scene, running the
-//! spar binary, comparing pixels by their bits.
-#![allow(dead_code)]
+//! Shared helpers of the render-farm tests: a small gem scene and comparing
+//! pixels by their bits (running the spar binary is `super::run`).
 
 use std::path::Path;
-use std::process::{Command, Output};
 
 /// A glass gem over a light: refraction, reflection and total internal
 /// reflection, so that sums of many different sizes meet in a pixel.
@@ -36,27 +34,6 @@ pub fn write_scene(dir: &Path, width: u32, height: u32, samples: u32) {
         )
         .replace("samples = 3", &format!("samples = {samples}"));
     std::fs::write(dir.join("scene.toml"), text).unwrap();
-}
-
-/// Runs spar in `dir`.
-pub fn spar(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_spar"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap()
-}
-
-/// Runs spar and insists on success.
-pub fn spar_ok(dir: &Path, args: &[&str]) -> Output {
-    let out = spar(dir, args);
-    assert!(
-        out.status.success(),
-        "spar {args:?} failed: {}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    out
 }
 
 /// An image's pixels as (channel name, bits of every value), channels

@@ -5,7 +5,7 @@
 //! degeneracy must agree to within what the geometry of the neighbouring
 //! rays can change.
 
-mod common;
+use crate::support::render as common;
 use common::*;
 use glam::{DMat3, DVec3};
 use spar::render::integrator::{Stats, Tracer, TreeSettings, WavelengthMedia};
