@@ -5,6 +5,7 @@
 //! loses more than 1e-4 of its rays says so and why.
 
 use crate::support::render as common;
+use crate::support::run;
 
 use common::{box_obj, render_with, scene};
 use glam::DVec3;
@@ -12,18 +13,10 @@ use spar::accel::AccelKind;
 use spar::geometry::Mesh;
 use spar::render::integrator::Stats;
 use std::path::Path;
-use std::process::Command;
 
 fn spar(args: &[&str], dir: &Path) -> (i32, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_spar"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    let (code, _, err) = run::code_out_err(&run::spar(dir, args));
+    (code, err)
 }
 
 const LIGHT: &str = r#"

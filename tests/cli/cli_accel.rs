@@ -4,20 +4,11 @@
 //! is Embree's alone; a build without the `native` feature refuses
 //! `--accel embree` with exit status 2 and renders with the Rust BVH.
 
+use crate::support::run;
 use std::path::Path;
-use std::process::Command;
 
 fn spar(args: &[&str], dir: &Path) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_spar"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    run::code_out_err(&run::spar(dir, args))
 }
 
 const SCENE: &str = r#"

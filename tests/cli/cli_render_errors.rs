@@ -1,19 +1,12 @@
 //! Bad input to `spar render`: a clear message naming the file, the line
 //! and the field, exit status 2, no output file, never a panic.
 
+use crate::support::run;
 use std::path::Path;
-use std::process::Command;
 
 fn spar(args: &[&str], dir: &Path) -> (i32, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_spar"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    let (code, _, err) = run::code_out_err(&run::spar(dir, args));
+    (code, err)
 }
 
 const GOOD: &str = r#"

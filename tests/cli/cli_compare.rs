@@ -5,20 +5,11 @@
 //! difference images say the same. Without the `native` feature there is
 //! one backend only, and compare refuses with exit status 2.
 
+use crate::support::run;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 fn spar(args: &[&str], dir: &Path) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_spar"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    run::code_out_err(&run::spar(dir, args))
 }
 
 fn glass() -> PathBuf {

@@ -2,7 +2,7 @@
 //! verbatim, or a green CI proves nothing about what users run.
 
 fn readme_commands() -> Vec<String> {
-    let readme = include_str!("../README.md");
+    let readme = include_str!("../../README.md");
     let block = readme
         .split("```sh\n")
         .nth(1)
@@ -21,7 +21,7 @@ fn readme_opens_with_two_commands_and_ci_runs_the_test_one() {
     assert_eq!(commands.len(), 2, "{commands:?}");
     assert!(commands[0].contains("render"), "{commands:?}");
     assert!(commands[1].contains("cargo test"), "{commands:?}");
-    let ci = include_str!("../.ci/run");
+    let ci = include_str!("../../.ci/run");
     assert!(
         ci.lines().any(|l| l.trim() == commands[1]),
         ".ci/run does not run the README's test command `{}` verbatim",

@@ -1,17 +1,13 @@
 //! `spar interface`: the JSON output parses and equals the library's answer
 //! for the same inputs; bad arguments exit with status 2 and a message.
 
+use crate::support::run;
 use glam::DVec3;
 use spar::material::Material;
 use spar::optics::{Interface, Mode, Side};
-use std::process::Command;
 
 fn spar(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_spar"))
-        .arg("interface")
-        .args(args)
-        .output()
-        .expect("run spar")
+    run::spar_in(None, &[&["interface"], args].concat())
 }
 
 fn vec3(v: &serde_json::Value) -> DVec3 {

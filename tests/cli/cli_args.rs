@@ -3,8 +3,8 @@
 //! help shows the form its parser takes; negative numbers reach each
 //! flag's own check instead of clap's "use '-- -1'" hint.
 
+use crate::support::run;
 use std::path::Path;
-use std::process::Command;
 
 const SCENE: &str = r#"
 [camera]
@@ -25,16 +25,7 @@ corners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, 
 "#;
 
 fn spar(dir: &Path, args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_spar"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    run::code_out_err(&run::spar(dir, args))
 }
 
 /// Exit 2 with each of `says` in the message, never clap's hint.

@@ -1,14 +1,11 @@
 //! `spar speed-error` end to end: the CSV, table and plot it writes, the
 //! reference it saves and checks, and its errors.
 
+use crate::support::run;
 use std::path::Path;
-use std::process::Command;
 
 fn spar(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_spar"))
-        .args(args)
-        .output()
-        .expect("spar runs")
+    run::spar_in(None, args)
 }
 
 fn scene() -> String {

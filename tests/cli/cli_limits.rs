@@ -4,8 +4,8 @@
 //! available), and a `--threads` count far past the cores (exit status 2,
 //! the flag named). No output file in any case.
 
+use crate::support::run;
 use std::path::Path;
-use std::process::Command;
 use std::time::{Duration, Instant};
 
 const SCENE: &str = r#"
@@ -26,16 +26,8 @@ corners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, 
 /// Runs spar in `dir`: exit status, standard error, and how long it took.
 fn spar(dir: &Path, args: &[&str]) -> (i32, String, Duration) {
     let t = Instant::now();
-    let out = Command::new(env!("CARGO_BIN_EXE_spar"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-        t.elapsed(),
-    )
+    let (code, _, err) = run::code_out_err(&run::spar(dir, args));
+    (code, err, t.elapsed())
 }
 
 /// `args` exit 2 saying each of `says`, before any rendering (well under
