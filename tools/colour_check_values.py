@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Print check values for tests/spectrum_colour.rs, computed with
+"""Print check values for tests/spectrum_material/spectrum_colour.rs, computed with
 colour-science (an implementation independent of spar's):
 
   - CIE XYZ (D65 white at Y = 1) of D65 times three analytic reflectances,

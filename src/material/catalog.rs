@@ -1,7 +1,7 @@
 //! Built-in media with cited dispersion data.
 //!
 //! Every model is valid over 380–780 nm; the tests in
-//! `tests/material_indices.rs` check each against a published index.
+//! `tests/spectrum_material/material_indices.rs` check each against a published index.
 
 use super::{Dispersion, Material};
 

@@ -24,7 +24,7 @@
 //!   separate — along the optic axis — physics would recombine them
 //!   coherently and polarized light would pass unchanged; here it is
 //!   depolarized by an amount that depends on how the degenerate o/e split
-//!   is oriented. Unpolarized light is unaffected (tests/render_hard_cases).
+//!   is oriented. Unpolarized light is unaffected (tests/render/render_hard_cases).
 //! - Objects must not overlap or touch, and the camera must not be inside
 //!   one: scene loading refuses both (`geometry::overlap`). Should a ray
 //!   inside one object still meet another, it is counted as lost
@@ -120,7 +120,7 @@ impl std::ops::AddAssign for Stats {
 
 /// The fraction of traced rays above which lost light is reported: 1e-4.
 /// The scenes shipped in `scenes/` stay below it on both backends
-/// (tests/render_lost_light.rs); the broken scenes of issue 15 lost 0.05
+/// (tests/render/render_lost_light.rs); the broken scenes of issue 15 lost 0.05
 /// to 1 of their rays.
 pub const LOST_WARNING_FRACTION: f64 = 1e-4;
 

@@ -331,7 +331,7 @@ struct ObjectPlace {
 /// Embree traces in f32 and aborts on coordinates beyond 1.8e18; its
 /// triangle test multiplies three coordinates, and the Rust BVH's test
 /// likewise (a gem scaled by 1e-20 made the Rust BVH loop for minutes).
-/// A conservative range, not a measured edge: tests/accel_scale.rs checks
+/// A conservative range, not a measured edge: tests/accel/accel_scale.rs checks
 /// the Rust BVH from 1e-5 to 1e5 and 1000 sizes away.
 pub const MAX_COORDINATE: f64 = 1e6;
 

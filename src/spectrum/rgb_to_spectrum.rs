@@ -40,7 +40,7 @@
 //! boundary the coefficients change fastest at both ends of that axis, so
 //! here they are smoothstep-spaced. At resolution 24 that cut the largest
 //! round-trip error from 1.2e-2 to 5.2e-3 (measured on the grid of
-//! `tests/spectrum_rgb_round_trip.rs`, whose header lists all the numbers).
+//! `tests/spectrum_material/spectrum_rgb_round_trip.rs`, whose header lists all the numbers).
 
 use super::observer::Observer;
 use super::srgb::LINEAR_SRGB_TO_XYZ;

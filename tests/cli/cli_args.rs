@@ -1,0 +1,227 @@
+//! Command-line details: `spar cut` refuses an output it cannot or should
+//! not write (exit status 2, the path named, nothing written); `--region`'s
+//! help shows the form its parser takes; negative numbers reach each
+//! flag's own check instead of clap's "use '-- -1'" hint.
+
+use crate::support::run;
+use std::path::Path;
+
+const SCENE: &str = r#"
+[camera]
+eye = [0.0, -3.0, 2.0]
+look_at = [0.0, 0.0, 0.0]
+fov = 30.0
+resolution = [8, 8]
+
+[render]
+wavelengths = 8
+
+[[object]]
+mesh = "builtin:trichecker12"
+medium = "n-bk7"
+
+[[light]]
+corners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, -1.5]]
+"#;
+
+fn spar(dir: &Path, args: &[&str]) -> (i32, String, String) {
+    run::code_out_err(&run::spar(dir, args))
+}
+
+/// Exit 2 with each of `says` in the message, never clap's hint.
+fn refused(dir: &Path, args: &[&str], says: &[&str]) {
+    let (code, _, err) = spar(dir, args);
+    assert_eq!(code, 2, "{args:?}: {err}");
+    for s in says {
+        assert!(err.contains(s), "{args:?}: `{s}` not in {err}");
+    }
+    assert!(!err.contains("'-- "), "{args:?}: clap's hint: {err}");
+}
+
+#[test]
+fn cut_refuses_outputs_it_cannot_or_should_not_write() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    refused(
+        d,
+        &["cut", "round-brilliant", "-o", "x.png"],
+        &["x.png", "name the output .obj"],
+    );
+    assert!(!d.join("x.png").exists(), "OBJ text written into x.png");
+    refused(
+        d,
+        &["cut", "round-brilliant", "-o", "x"],
+        &["x: spar cut writes OBJ text"],
+    );
+    refused(
+        d,
+        &["cut", "round-brilliant", "-o", "missing/x.obj"],
+        &["missing/x.obj", "does not exist"],
+    );
+    std::fs::create_dir(d.join("dir.obj")).unwrap();
+    refused(
+        d,
+        &["cut", "round-brilliant", "-o", "dir.obj"],
+        &["dir.obj", "is a directory"],
+    );
+    // A directory that exists but takes no files (even for root): the
+    // write itself fails, and that is the user's output too.
+    #[cfg(target_os = "linux")]
+    refused(
+        d,
+        &["cut", "round-brilliant", "-o", "/proc/spar-cut.obj"],
+        &["/proc/spar-cut.obj: cannot write"],
+    );
+    let (code, _, err) = spar(d, &["cut", "round-brilliant", "-o", "ok.OBJ"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(d.join("ok.OBJ").exists());
+}
+
+#[test]
+fn region_help_shows_the_form_the_parser_takes() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (code, help, _) = spar(d, &["render", "--help"]);
+    assert_eq!(code, 0);
+    assert!(help.contains("--region <X0,X1,Y0,Y1>"), "{help}");
+    // The help's example, run as written.
+    let example = help
+        .split("`--region ")
+        .nth(1)
+        .and_then(|r| r.split('`').next())
+        .expect("an example in the help")
+        .to_string();
+    assert_eq!(example, "0,64,0,32");
+    std::fs::write(d.join("scene.toml"), SCENE.replace("[8, 8]", "[64, 40]")).unwrap();
+    let (code, _, err) = spar(
+        d,
+        &[
+            "render",
+            "scene.toml",
+            "-q",
+            "--samples",
+            "1",
+            "--region",
+            &example,
+            "-o",
+            "p.exr",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    let part = spar::image::read(&d.join("p.exr")).unwrap();
+    assert_eq!((part.width(), part.height()), (64, 32));
+    assert_eq!(part.metadata()["spar:region"], "0,64,0,32");
+    // The dotted form the help once showed is refused with the form.
+    refused(
+        d,
+        &[
+            "render",
+            "scene.toml",
+            "-q",
+            "--region",
+            "0..64, 0..32",
+            "-o",
+            "q.exr",
+        ],
+        &["is not x0,x1,y0,y1"],
+    );
+}
+
+#[test]
+fn negative_numbers_reach_the_flags_own_checks() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("scene.toml"), SCENE).unwrap();
+    let render = |flag: &'static str, value: &'static str| {
+        vec![
+            "render",
+            "scene.toml",
+            "-q",
+            "--samples",
+            "1",
+            flag,
+            value,
+            "-o",
+            "o.png",
+        ]
+    };
+    refused(
+        d,
+        &render("--prune", "-1"),
+        &["--prune must be a number ≥ 0"],
+    );
+    refused(
+        d,
+        &render("--wavelength", "-5"),
+        &["--wavelength -5 is outside"],
+    );
+    refused(
+        d,
+        &render("--seed", "-1"),
+        &["'--seed <SEED>'", "invalid digit"],
+    );
+    refused(
+        d,
+        &[
+            "render",
+            "scene.toml",
+            "-q",
+            "--region",
+            "-1,4,0,4",
+            "-o",
+            "p.exr",
+        ],
+        &["`-1,4,0,4` is not x0,x1,y0,y1"],
+    );
+    refused(
+        d,
+        &[
+            "cut",
+            "round-brilliant",
+            "--crown-angle",
+            "-5",
+            "-o",
+            "c.obj",
+        ],
+        &["--crown-angle = -5 is outside"],
+    );
+    assert!(!d.join("o.png").exists() && !d.join("c.obj").exists());
+    // Vectors with negative components are values, not flags.
+    let (code, out, err) = spar(
+        d,
+        &[
+            "interface",
+            "--from",
+            "air",
+            "--to",
+            "calcite",
+            "--mode",
+            "s",
+            "--incident",
+            "-0.3,0,-1",
+            "--axis",
+            "-1,0,0",
+            "--normal",
+            "0,0,1",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("axis = (-1.0000, 0.0000, 0.0000)"), "{out}");
+    refused(
+        d,
+        &[
+            "interface",
+            "--from",
+            "air",
+            "--to",
+            "n-bk7",
+            "--mode",
+            "s",
+            "--incident",
+            "0,0,-1",
+            "--wavelength",
+            "-500",
+        ],
+        &["-500"],
+    );
+}

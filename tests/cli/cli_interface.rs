@@ -1,0 +1,292 @@
+//! `spar interface`: the JSON output parses and equals the library's answer
+//! for the same inputs; bad arguments exit with status 2 and a message.
+
+use crate::support::run;
+use glam::DVec3;
+use spar::material::Material;
+use spar::optics::{Interface, Mode, Side};
+
+fn spar(args: &[&str]) -> std::process::Output {
+    run::spar_in(None, &[&["interface"], args].concat())
+}
+
+fn vec3(v: &serde_json::Value) -> DVec3 {
+    let a = v.as_array().expect("array");
+    assert_eq!(a.len(), 3);
+    DVec3::new(
+        a[0].as_f64().unwrap(),
+        a[1].as_f64().unwrap(),
+        a[2].as_f64().unwrap(),
+    )
+}
+
+/// Run `--json` and compare every wave with the library call.
+#[allow(clippy::too_many_arguments)]
+fn check_against_library(
+    from: &str,
+    to: &str,
+    axis: DVec3,
+    normal: DVec3,
+    incident: DVec3,
+    mode: &str,
+    lambda: f64,
+) {
+    let f = |v: DVec3| format!("{},{},{}", v.x, v.y, v.z);
+    let (axis_s, normal_s, inc_s, lambda_s) = (f(axis), f(normal), f(incident), lambda.to_string());
+    let out = spar(&[
+        "--from",
+        from,
+        "--to",
+        to,
+        "--axis",
+        &axis_s,
+        "--normal",
+        &normal_s,
+        "--incident",
+        &inc_s,
+        "--mode",
+        mode,
+        "--wavelength",
+        &lambda_s,
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "spar failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(
+        text.trim().lines().count(),
+        1,
+        "exactly one JSON line: {text}"
+    );
+    let doc: serde_json::Value = serde_json::from_str(text.trim()).expect("valid JSON");
+
+    let m_from = Material::parse(from).unwrap().medium(lambda, axis);
+    let m_to = Material::parse(to).unwrap().medium(lambda, axis);
+    let iface = Interface::new(normal, m_from, m_to).unwrap();
+    let sc = iface
+        .solve_direction(Side::Plus, Mode::parse(mode).unwrap(), incident)
+        .unwrap();
+
+    let waves = doc["waves"].as_array().expect("waves");
+    assert_eq!(waves.len(), 4);
+    for (w, o) in waves.iter().zip(&sc.outgoing) {
+        let side = if o.wave.side == Side::Plus {
+            "reflected"
+        } else {
+            "transmitted"
+        };
+        assert_eq!(w["side"], side);
+        assert_eq!(w["mode"], o.wave.mode.name());
+        assert_eq!(w["evanescent"], o.wave.evanescent);
+        // serde_json prints the shortest representation that round-trips,
+        // but its default parser may land 1 ulp away (without its
+        // `float_roundtrip` feature): compare to 2 ulp.
+        let ulp2 = |x: f64| 4.5e-16 * x.abs().max(1e-300);
+        let (k, r) = (vec3(&w["k"]), vec3(&w["ray"]));
+        for (a, b) in [(k, o.wave.k.re), (r, o.wave.ray)] {
+            for i in 0..3 {
+                assert!((a[i] - b[i]).abs() <= ulp2(b[i]), "{a} vs {b}");
+            }
+        }
+        let e = w["energy"].as_f64().unwrap();
+        assert!(
+            (e - o.energy).abs() <= ulp2(o.energy),
+            "{e} vs {}",
+            o.energy
+        );
+        let keys: Vec<&String> = w.as_object().unwrap().keys().collect();
+        assert_eq!(keys.len(), 6, "{keys:?}");
+    }
+    let sum = doc["energy_sum"].as_f64().unwrap();
+    assert!((sum - sc.energy_sum()).abs() <= 4.5e-16);
+    assert!((sum - 1.0).abs() < 1e-12);
+    assert_eq!(doc.as_object().unwrap().len(), 2);
+}
+
+#[test]
+fn json_matches_the_library_air_to_glass() {
+    check_against_library(
+        "air",
+        "n-bk7",
+        DVec3::Z,
+        DVec3::Z,
+        DVec3::new(1.0, 0.0, -1.0),
+        "s",
+        587.6,
+    );
+    check_against_library(
+        "air",
+        "iso:1.5",
+        DVec3::Z,
+        DVec3::Z,
+        DVec3::new(0.3, 0.2, -1.0),
+        "p",
+        589.3,
+    );
+}
+
+#[test]
+fn json_matches_the_library_total_internal_reflection() {
+    check_against_library(
+        "n-bk7",
+        "air",
+        DVec3::Z,
+        DVec3::Z,
+        DVec3::new(1.0, 0.0, -1.0),
+        "p",
+        589.3,
+    );
+}
+
+#[test]
+fn json_matches_the_library_crystals() {
+    let axis = DVec3::new(0.0, 1.0, 1.0);
+    let normal = DVec3::new(0.1, -0.2, 1.0);
+    check_against_library(
+        "calcite",
+        "air",
+        axis,
+        normal,
+        DVec3::new(0.3, 0.0, -1.0),
+        "e",
+        589.3,
+    );
+    check_against_library(
+        "air",
+        "calcite",
+        axis,
+        normal,
+        DVec3::new(0.3, 0.5, -1.0),
+        "s",
+        500.0,
+    );
+    check_against_library(
+        "quartz",
+        "calcite",
+        axis,
+        normal,
+        DVec3::new(-0.4, 0.1, -1.0),
+        "o",
+        650.0,
+    );
+    check_against_library(
+        "uniaxial:1.6584:1.4864",
+        "iso:1.0",
+        DVec3::new(1.0, 0.0, 1.0),
+        DVec3::Z,
+        DVec3::Z * -1.0,
+        "e",
+        589.3,
+    );
+}
+
+#[test]
+fn table_output_by_default() {
+    let out = spar(&[
+        "--from",
+        "air",
+        "--to",
+        "calcite",
+        "--incident",
+        "1,0,-1",
+        "--mode",
+        "p",
+    ]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("energy sum"), "{text}");
+    assert!(
+        text.contains("reflected") && text.contains("transmitted"),
+        "{text}"
+    );
+}
+
+#[test]
+fn bad_arguments_exit_2_with_a_message() {
+    let base = [
+        "--from",
+        "air",
+        "--to",
+        "calcite",
+        "--incident",
+        "1,0,-1",
+        "--mode",
+        "s",
+    ];
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["--incident", "0,0,0"], "non-zero"),
+        (vec!["--incident", "nan,0,-1"], "finite"),
+        (vec!["--incident", "1,0"], "three numbers"),
+        (vec!["--incident", "1,0,1"], "points away"),
+        (vec!["--incident", "1,0,0"], "points away"),
+        (vec!["--normal", "0,0,0"], "non-zero"),
+        (vec!["--normal", "inf,0,1"], "finite"),
+        (vec!["--axis", "0,0,0"], "non-zero"),
+        (vec!["--from", "unobtainium"], "unknown material"),
+        (vec!["--to", "iso:-1"], "positive"),
+        (vec!["--mode", "x"], "expected s, p, o or e"),
+        (vec!["--mode", "o"], "isotropic"),
+        (vec!["--mode", "e"], "isotropic"),
+        (vec!["--wavelength", "-5"], "wavelength"),
+        (vec!["--wavelength", "NaN"], "wavelength"),
+    ];
+    for (overrides, needle) in cases {
+        let mut args: Vec<&str> = base.to_vec();
+        for pair in overrides.chunks(2) {
+            match args.iter().position(|a| *a == pair[0]) {
+                Some(i) => args[i + 1] = pair[1],
+                None => args.extend_from_slice(pair),
+            }
+        }
+        let out = spar(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(
+            err.contains(needle),
+            "{args:?}: expected `{needle}` in: {err}"
+        );
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert!(out.stdout.is_empty(), "{args:?}: nothing on stdout");
+    }
+    // s/p in a crystal.
+    let out = spar(&[
+        "--from",
+        "calcite",
+        "--to",
+        "air",
+        "--incident",
+        "0,0,-1",
+        "--mode",
+        "s",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("uniaxial crystal"));
+    // Missing required flag (clap's usage error is also status 2).
+    let out = spar(&["--from", "air", "--to", "calcite", "--mode", "s"]);
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn extraordinary_wave_whose_energy_leaves_is_rejected() {
+    // Calcite, axis 45° in the x–z plane, interface normal +z. A wave vector
+    // just below the interface plane (k·N < 0) whose ray has S·N > 0 (the
+    // walk-off tilts the ray by up to 6° across the plane): not incident.
+    let out = spar(&[
+        "--from",
+        "uniaxial:1.6584:1.4864",
+        "--to",
+        "air",
+        "--axis",
+        "1,0,1",
+        "--incident",
+        "-1,0,-0.01",
+        "--mode",
+        "e",
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("energy flows away"), "{err}");
+}

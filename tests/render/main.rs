@@ -1,0 +1,16 @@
+//! Rendering (`spar::render`, `spar::scene`): the white furnace, physics
+//! check scenes on every backend, hard cases, lost light, the spectral and
+//! branching models, sampling strategies, scene vectors and fuzzed scenes.
+//! One test binary; each file is a module.
+
+#[path = "../support/mod.rs"]
+mod support;
+
+mod fuzz_scene;
+mod render_furnace;
+mod render_hard_cases;
+mod render_lost_light;
+mod render_model_only_needed;
+mod render_physics;
+mod render_strategies;
+mod scene_vectors;

@@ -1,0 +1,329 @@
+//! "Model only what a scene needs" through the render driver: the
+//! automatic shortcuts give the image of the general path, and the sampled
+//! knobs (hero wavelengths, stochastic branching) are unbiased.
+
+use crate::support::render::*;
+use spar::render::approx::Branching;
+use spar::render::approx::{DispersionMode, Spectral, NO_DISPERSION_NM};
+
+/// A gem of `medium` over a textured, polarized light, seen at an angle.
+fn gem(medium: &str, axis: &str, resolution: u32, samples: u32) -> String {
+    format!(
+        r#"
+[camera]
+eye = [0.0, -3.0, 2.2]
+look_at = [0.0, 0.0, -0.1]
+up = [0.0, 0.0, 1.0]
+fov = 30.0
+resolution = [{resolution}, {resolution}]
+samples = {samples}
+[render]
+max_depth = 10
+prune = 0.0
+[[object]]
+mesh = "builtin:trichecker12"
+medium = "{medium}"
+{axis}
+[[light]]
+corners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, -1.5]]
+texture = "builtin:checker"
+polarization = {{ linear = [1.0, 0.4, 0.0] }}
+[background]
+radiance = 0.3
+"#
+    )
+}
+
+const LAMBDAS: [f64; 5] = [420.0, 480.0, 540.0, 600.0, 700.0];
+
+#[test]
+fn a_scene_without_dispersion_traces_each_tree_once_for_all_wavelengths() {
+    let (scene, _d) = scene(&gem("iso:1.55", "", 8, 2), &[]);
+    let (batched, stats) = render_at(&scene, &LAMBDAS);
+    let mut one_rays = None;
+    for (i, &l) in LAMBDAS.iter().enumerate() {
+        let (alone, s) = render_at(&scene, &[l]);
+        one_rays.get_or_insert(s.rays);
+        assert_eq!(
+            s.rays,
+            one_rays.unwrap(),
+            "the same trees at every wavelength"
+        );
+        for y in 0..8 {
+            for x in 0..8 {
+                assert_eq!(
+                    batched.stokes(x, y, i),
+                    alone.stokes(x, y, 0),
+                    "{l} nm ({x}, {y})"
+                );
+            }
+        }
+    }
+    // The general path would trace five times as many rays.
+    assert_eq!(stats.rays, one_rays.unwrap());
+    assert!(stats.rays > 64 * 2 * 3, "trees, not just camera rays");
+}
+
+#[test]
+fn dispersion_off_traces_every_wavelength_along_the_d_line_paths() {
+    let axis = "optic_axis = [0.3, 0.2, 1.0]";
+    let (mut scene, _d) = scene(&gem("calcite", axis, 8, 1), &[]);
+    let lambdas = [450.0, NO_DISPERSION_NM, 650.0];
+    let (dispersive, on) = render_at(&scene, &lambdas);
+    scene.settings.approx.dispersion = DispersionMode::Off;
+    let (flat, off) = render_at(&scene, &lambdas);
+    let (d_line, d) = render_at(&scene, &[NO_DISPERSION_NM]);
+    // One tree per camera ray instead of one per wavelength.
+    assert_eq!(off.rays, d.rays);
+    assert!(on.rays > 2 * off.rays, "{} vs {}", on.rays, off.rays);
+    let mut differs = false;
+    for y in 0..8 {
+        for x in 0..8 {
+            // At the d line itself nothing is approximated.
+            assert_eq!(flat.stokes(x, y, 1), dispersive.stokes(x, y, 1));
+            assert_eq!(flat.stokes(x, y, 1), d_line.stokes(x, y, 0));
+            differs |= flat.stokes(x, y, 0) != dispersive.stokes(x, y, 0);
+        }
+    }
+    assert!(differs, "calcite disperses: 450 nm must differ somewhere");
+}
+
+#[test]
+fn dispersion_bands_trace_one_tree_per_band_along_its_middle() {
+    let axis = "optic_axis = [0.3, 0.2, 1.0]";
+    let (mut scene, _d) = scene(&gem("calcite", axis, 8, 1), &[]);
+    // Two bands of 400-500 nm: 400-450 follows 425 nm, 450-500 follows 475.
+    let lambdas = [400.0, 425.0, 450.0, 475.0, 500.0];
+    let (exact, on) = render_at(&scene, &lambdas);
+    let (middles, m) = render_at(&scene, &[425.0, 475.0]);
+    scene.settings.approx.dispersion = DispersionMode::Bands(2);
+    let (banded, bands) = render_at(&scene, &lambdas);
+    // Exactly the two middles' trees, each serving its band.
+    assert_eq!(bands.rays, m.rays);
+    assert!(on.rays > 2 * bands.rays, "{} vs {}", on.rays, bands.rays);
+    let mut differs = false;
+    for y in 0..8 {
+        for x in 0..8 {
+            // The middles themselves are not approximated.
+            assert_eq!(banded.stokes(x, y, 1), exact.stokes(x, y, 1));
+            assert_eq!(banded.stokes(x, y, 3), middles.stokes(x, y, 1));
+            differs |= banded.stokes(x, y, 0) != exact.stokes(x, y, 0);
+        }
+    }
+    assert!(differs, "calcite disperses: 400 nm must differ somewhere");
+}
+
+#[test]
+fn dispersion_bands_leave_a_single_wavelength_mode_on_its_own_paths() {
+    use spar::render::output::OutputMode;
+    let axis = "optic_axis = [0.3, 0.2, 1.0]";
+    let (mut scene, _d) = scene(&gem("calcite", axis, 8, 1), &[]);
+    let accel = spar::render::prepare::accel(&scene, Default::default(), 2, None).unwrap();
+    // Five colour wavelengths in two bands, and 437 nm for a DoP image.
+    scene.settings.wavelengths =
+        spar::spectrum::WavelengthSet::from_list(&[400.0, 425.0, 450.0, 475.0, 500.0]).unwrap();
+    scene.settings.approx.dispersion = DispersionMode::Bands(2);
+    let opts =
+        spar::render::prepare::options(&scene, &[OutputMode::Color, OutputMode::Dop], 437.0, false);
+    assert_eq!(opts.lambdas[5], 437.0);
+    let (banded, _) = spar::render::render(&scene, accel.as_ref(), &opts);
+    scene.settings.approx.dispersion = DispersionMode::On;
+    let (own, _) = render_at(&scene, &[437.0]);
+    for y in 0..8 {
+        for x in 0..8 {
+            assert_eq!(banded.stokes(x, y, 5), own.stokes(x, y, 0), "({x}, {y})");
+        }
+    }
+}
+
+/// As `spar render --mode color,dop` asks: the seed's 21 wavelengths, one
+/// of them also the DoP image's 580 nm.
+#[test]
+fn dispersion_bands_with_colour_and_dop_trace_a_tree_per_band_and_one_for_dop() {
+    use spar::render::output::OutputMode;
+    let axis = "optic_axis = [0.3, 0.2, 1.0]";
+    let (mut scene, _d) = scene(&gem("calcite", axis, 8, 1), &[]);
+    let accel = spar::render::prepare::accel(&scene, Default::default(), 2, None).unwrap();
+    let modes = [OutputMode::Color, OutputMode::Dop];
+    let mut run = |d: DispersionMode| {
+        scene.settings.approx.dispersion = d;
+        let opts = spar::render::prepare::options(&scene, &modes, 580.0, false);
+        let (film, stats) = spar::render::render(&scene, accel.as_ref(), &opts);
+        let dop = opts.lambdas.iter().position(|&l| l == 580.0).unwrap();
+        (film, stats.rays, dop)
+    };
+    let (exact, on, dop_on) = run(DispersionMode::On);
+    let (_, off, _) = run(DispersionMode::Off);
+    let (banded, bands, dop_b) = run(DispersionMode::Bands(3));
+    // Three band trees and the DoP wavelength's own: about four times
+    // one tree, far from the 21 of full dispersion.
+    assert!(bands > 2 * off && bands < 6 * off, "{bands} vs {off}");
+    assert!(on > 12 * off, "{on} vs {off}");
+    for y in 0..8 {
+        for x in 0..8 {
+            assert_eq!(banded.stokes(x, y, dop_b), exact.stokes(x, y, dop_on));
+        }
+    }
+}
+
+#[test]
+fn scene_files_set_dispersion_as_a_flag_or_bands() {
+    let base = gem("calcite", "optic_axis = [0.0, 0.0, 1.0]", 8, 1);
+    for (value, mode) in [
+        ("false", DispersionMode::Off),
+        ("true", DispersionMode::On),
+        ("\"bands:4\"", DispersionMode::Bands(4)),
+        ("\"off\"", DispersionMode::Off),
+    ] {
+        let toml = base.replace("[render]\n", &format!("[render]\ndispersion = {value}\n"));
+        let (s, _d) = scene(&toml, &[]);
+        assert_eq!(s.settings.approx.dispersion, mode, "{value}");
+    }
+}
+
+#[test]
+fn hero_wavelengths_are_exact_where_every_sample_sees_the_same_light() {
+    // A uniform unpolarized light fills the view: every sample of a pixel
+    // sees the same spectrum, so stride · m samples give each wavelength
+    // exactly m traced samples of weight stride, i.e. the full spectrum.
+    let toml = r#"
+[camera]
+eye = [0.0, 0.0, 5.0]
+look_at = [0.0, 0.0, 0.0]
+up = [0.0, 1.0, 0.0]
+fov = 10.0
+resolution = [4, 4]
+samples = 14
+[[light]]
+corners = [[-2.0, -2.0, 0.0], [2.0, -2.0, 0.0], [2.0, 2.0, 0.0], [-2.0, 2.0, 0.0]]
+radiance = 1.0
+"#;
+    let (mut scene, _d) = scene(toml, &[]);
+    let lambdas: Vec<f64> = (0..21).map(|i| 380.0 + 20.0 * i as f64).collect();
+    let (all, _) = render_at(&scene, &lambdas);
+    scene.settings.approx.spectral = Spectral::Hero { per_sample: 3 };
+    let (hero, stats) = render_at(&scene, &lambdas);
+    // 21 wavelengths, 3 per sample: stride 7, 14 samples = 2 rounds.
+    assert_eq!(stats.rays, 16 * 14, "one camera ray per sample");
+    for y in 0..4 {
+        for x in 0..4 {
+            for i in 0..21 {
+                let (a, h) = (all.stokes(x, y, i)[0], hero.stokes(x, y, i)[0]);
+                // Sums of 14 f32 values on both sides: a few f32 roundings.
+                assert!((a - h).abs() <= 4.0 * f32::EPSILON as f64 * a, "{a} vs {h}");
+            }
+        }
+    }
+}
+
+/// Mean of the per-pixel differences between two films over all pixels and
+/// wavelengths, in units of its standard error.
+fn z_score(a: &spar::render::film::Film, b: &spar::render::film::Film, c: usize) -> f64 {
+    let mut d = Vec::new();
+    for y in 0..a.height {
+        for x in 0..a.width {
+            let s: f64 = (0..a.lambdas.len())
+                .map(|i| a.stokes(x, y, i)[c] - b.stokes(x, y, i)[c])
+                .sum();
+            d.push(s);
+        }
+    }
+    let n = d.len() as f64;
+    let mean = d.iter().sum::<f64>() / n;
+    let var = d.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    assert!(
+        var > 0.0,
+        "the sampled render must differ from the exact one"
+    );
+    mean / (var / n).sqrt()
+}
+
+/// A sampled setting: its name and how it changes a scene.
+type Knob = (&'static str, fn(&mut spar::scene::Scene));
+
+#[test]
+fn sampled_knobs_are_unbiased_through_the_driver() {
+    // Each pixel's difference from the exact render has mean zero if the
+    // estimator is unbiased; over 256 pixels the mean difference must be
+    // within 5 standard errors (a 1-in-1.7-million false alarm for a
+    // normal mean).
+    let axis = "optic_axis = [0.3, 0.2, 1.0]";
+    let (scene, _d) = scene(&gem("calcite", axis, 16, 7), &[]);
+    let (exact, full_stats) = render_at(&scene, &LAMBDAS);
+    let knobs: [Knob; 3] = [
+        ("hero:2", |s| {
+            s.settings.approx.spectral = Spectral::Hero { per_sample: 2 }
+        }),
+        ("stochastic", |s| {
+            s.settings.approx.strategy.branching = Branching::Stochastic
+        }),
+        ("hybrid:2", |s| {
+            s.settings.approx.strategy.branching = Branching::Hybrid { full_depth: 2 }
+        }),
+    ];
+    for (name, set) in knobs {
+        let mut sampled = scene.clone();
+        set(&mut sampled);
+        let (film, stats) = render_at(&sampled, &LAMBDAS);
+        assert!(stats.rays < full_stats.rays, "{name} must trace less");
+        for c in 0..3 {
+            let z = z_score(&film, &exact, c);
+            assert!(z.abs() < 5.0, "{name}: S{c} off by {z:.2} standard errors");
+        }
+        // Deterministic: the same seed gives the same film, another seed
+        // another one.
+        assert_eq!(render_at(&sampled, &LAMBDAS).0, film, "{name}");
+        sampled.settings.seed += 1;
+        assert_ne!(render_at(&sampled, &LAMBDAS).0, film, "{name}");
+    }
+}
+
+#[test]
+fn hero_sampling_never_thins_out_a_single_wavelength_mode() {
+    // dop at 580 nm with colour over 21 wavelengths (580 among them): with
+    // hero sampling the 580 nm channel is still traced for every sample,
+    // so it is bit for bit the channel of the unsampled render.
+    let dir = tempfile::tempdir().unwrap();
+    let scene =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/glass-polarized.toml");
+    let raw = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_spar"))
+            .arg("render")
+            .arg(&scene)
+            .args([
+                "--resolution",
+                "16x16",
+                "--mode",
+                "color,dop",
+                "--raw",
+                "-q",
+                "-o",
+            ])
+            .arg(&out)
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        spar::image::read(&out).unwrap()
+    };
+    let all = raw("all.exr", &[]);
+    let hero = raw("hero.exr", &["--spectral", "hero:3"]);
+    for c in 0..4 {
+        let name = format!("S{c}_580nm");
+        assert_eq!(
+            all.channel(&name).unwrap(),
+            hero.channel(&name).unwrap(),
+            "{name}"
+        );
+    }
+    // The thinned colour wavelengths do differ.
+    assert_ne!(
+        all.channel("S0_600nm").unwrap(),
+        hero.channel("S0_600nm").unwrap()
+    );
+}
