@@ -147,14 +147,6 @@ impl Light {
         self.radiance * reflectance * cie::d65(lambda_nm)
     }
 
-    /// The largest radiance the light sends at any wavelength in 380–780 nm
-    /// (textures never exceed 1). Only [`super::world::Scene::max_radiance`] calls
-    /// it, and nothing calls that: pruning does not need it
-    /// (docs/physics.md §5.3).
-    pub fn max_radiance(&self) -> f64 {
-        self.radiance * max_d65()
-    }
-
     /// The coherence matrix of the light leaving face coordinates (s, t)
     /// along unit direction `k` (from the light into the scene), expressed
     /// in the orthonormal basis (x, y) transverse to `k`.
@@ -197,8 +189,4 @@ impl Light {
         // An ideal filter passes half of unpolarized light.
         Coherence::from_jones_vector(jones).scaled(0.5 * l)
     }
-}
-
-fn max_d65() -> f64 {
-    (380..=780).map(|l| cie::d65(l as f64)).fold(0.0, f64::max)
 }

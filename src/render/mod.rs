@@ -61,22 +61,6 @@ pub struct RenderOptions {
     pub colour_lambdas: usize,
 }
 
-impl RenderOptions {
-    /// Exact settings (every wavelength, full tree and polarization,
-    /// dispersion on) for `lambdas`, all of them a colour set.
-    pub fn exact(lambdas: Vec<f64>, tree: TreeSettings, samples: u32, seed: u64) -> RenderOptions {
-        RenderOptions {
-            colour_lambdas: lambdas.len(),
-            lambdas,
-            tree,
-            samples,
-            seed,
-            progress: false,
-            approx: Approximations::default(),
-        }
-    }
-}
-
 /// The wavelengths of a render grouped by the geometry they share, with
 /// the media each traces with. Model only what the scene needs: a scene
 /// whose media do not depend on wavelength (or a render with dispersion

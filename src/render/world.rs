@@ -59,17 +59,6 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// The brightest radiance any emitter or the background can send, in
-    /// units of D65. Nothing calls it: pruning compares a path's throughput
-    /// with the threshold directly, the brightest radiance cancelling from
-    /// both sides of its bound (docs/physics.md §5.3).
-    pub fn max_radiance(&self) -> f64 {
-        self.lights
-            .iter()
-            .map(|l| l.max_radiance())
-            .fold(self.background, f64::max)
-    }
-
     /// True when some medium's index depends on wavelength.
     pub fn is_dispersive(&self) -> bool {
         self.objects.iter().any(|o| o.material.is_dispersive())
