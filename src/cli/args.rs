@@ -5,12 +5,15 @@
 use super::common::film_bytes;
 use super::error::CliError;
 use crate::accel::AccelKind;
+use crate::farm::progress::ProgressMode;
+use crate::render::approx::{self, BranchingArg, PolarizationArg, Spectral};
 use crate::render::blocks::SampleRange;
 use crate::render::prepare;
-use crate::farm::progress::ProgressMode;
-use crate::render::region::{Rect, TileSpec};
-use crate::render::approx::{self, BranchingArg, PolarizationArg, Spectral};
 use crate::render::quality::Quality;
+use crate::render::region::{Rect, TileSpec};
+use crate::render::settings::{
+    self, Field, Origin, Set, SettingsError, SettingsLayer, Wavelengths,
+};
 use crate::scene::Scene;
 use crate::spectrum::WavelengthSet;
 use std::path::PathBuf;
@@ -187,73 +190,97 @@ impl SceneOverrides {
     /// Applies the overrides and returns the sample block asked for, if
     /// any, checked against the scene's sample count.
     pub fn apply_with_block(&self, scene: &mut Scene) -> Result<Option<SampleRange>, CliError> {
-        if let Some(q) = self.quality {
-            q.apply(&mut scene.settings);
+        self.apply_from(scene, &|flag| Origin::Flag(flag.to_string()))
+    }
+
+    /// The overrides as settings layers, a `--quality` preset's first and
+    /// then the flags', each value's origin made by `origin` from its flag.
+    pub fn layers(&self, origin: &dyn Fn(&'static str) -> Origin) -> [SettingsLayer; 2] {
+        fn set<T>(
+            v: Option<T>,
+            flag: &'static str,
+            origin: &dyn Fn(&'static str) -> Origin,
+        ) -> Option<Set<T>> {
+            v.map(|v| Set::new(v, origin(flag)))
         }
-        if let Some(b) = self.branching {
-            scene.settings.approx.strategy.branching = b.0;
+        let samples = match self.samples {
+            Some(SamplesArg::Count(n)) => Some(n),
+            Some(SamplesArg::Block { total, .. }) => total,
+            None => None,
+        };
+        let flags = SettingsLayer {
+            samples: set(samples, "--samples", origin),
+            resolution: set(self.resolution, "--resolution", origin),
+            wavelengths: set(
+                self.wavelengths.clone().map(Wavelengths::Spec),
+                "--wavelengths",
+                origin,
+            ),
+            max_depth: set(self.max_depth, "--max-depth", origin),
+            prune: set(self.prune, "--prune", origin),
+            seed: set(self.seed, "--seed", origin),
+            branching: set(self.branching.map(|b| b.0), "--branching", origin),
+            polarization: set(self.polarization.map(|p| p.0), "--polarization", origin),
+            spectral: set(self.spectral, "--spectral", origin),
+            dispersion: set(self.dispersion, "--dispersion", origin),
+        };
+        [self.quality.map(Quality::layer).unwrap_or_default(), flags]
+    }
+
+    /// Resolves the overrides onto the scene (settings::apply_to checks
+    /// every value) and returns the sample block asked for, if any,
+    /// checked against the scene's sample count.
+    pub fn apply_from(
+        &self,
+        scene: &mut Scene,
+        origin: &dyn Fn(&'static str) -> Origin,
+    ) -> Result<Option<SampleRange>, CliError> {
+        let [preset, flags] = self.layers(origin);
+        if let Err(e) = settings::apply_to(scene, &[&preset, &flags]) {
+            return Err(self.explain(scene, e));
         }
-        if let Some(p) = self.polarization {
-            scene.settings.approx.strategy.polarization = p.0;
-        }
-        if let Some(s) = self.spectral {
-            scene.settings.approx.spectral = s;
-        }
-        if let Some(d) = self.dispersion {
-            scene.settings.approx.dispersion = d;
-        }
-        if let Some(spec) = &self.wavelengths {
-            check_wavelength_count(spec)?;
-            scene.settings.wavelengths = WavelengthSet::parse(spec)
-                .map_err(|e| CliError::input(format!("--wavelengths: {e}")))?;
-        }
-        let mut block = None;
         match self.samples {
-            Some(SamplesArg::Count(0)) | Some(SamplesArg::Block { total: Some(0), .. }) => {
-                return Err(CliError::input("--samples must be at least 1"));
-            }
-            Some(SamplesArg::Count(s)) => scene.samples = s,
-            Some(SamplesArg::Block { start, end, total }) => {
-                if let Some(t) = total {
-                    scene.samples = t;
-                }
-                block = Some(SampleRange::new(start, end, scene.samples).ok_or_else(|| {
+            Some(SamplesArg::Block { start, end, .. }) => {
+                Ok(Some(SampleRange::new(start, end, scene.samples).ok_or_else(|| {
                     CliError::input(format!(
                         "--samples {start}..{end}: the block must lie within the {} samples per pixel",
                         scene.samples
                     ))
-                })?);
+                })?))
             }
-            None => {}
+            _ => Ok(None),
         }
-        if let Some((w, h)) = self.resolution {
-            if w > MAX_SIDE || h > MAX_SIDE {
-                let n = scene.settings.wavelengths.len();
+    }
+
+    /// A refused flag's message with what the film it asks for would
+    /// cost, for a resolution or wavelength count past its bound (the
+    /// bound itself is checked in render::settings).
+    fn explain(&self, scene: &Scene, e: SettingsError) -> CliError {
+        let text = e.to_string();
+        match (e.field, self.resolution, self.wavelengths.as_deref()) {
+            (Field::Resolution, Some((w, h)), spec) => {
+                let n = spec
+                    .and_then(|s| WavelengthSet::parse(s).ok())
+                    .map_or(scene.settings.wavelengths.len(), |s| s.len());
                 let need = film_bytes(w as u64 * h as u64, n, 1) / crate::farm::memory::GIB;
-                return Err(CliError::input(format!(
-                    "--resolution {w}x{h}: at most {MAX_SIDE} pixels per side (its film at {n} \
-                     wavelength(s) would need about {need:.1} GiB of memory; {})",
+                CliError::input(format!(
+                    "{text} (its film at {n} wavelength(s) would need about {need:.1} GiB of \
+                     memory; {})",
                     crate::farm::memory::available().describe()
-                )));
+                ))
             }
-            scene.camera = scene.camera.clone().with_resolution(w, h);
+            (Field::Wavelengths, _, Some(spec)) => match spec.trim().parse::<u128>() {
+                Ok(n) if n > settings::MAX_WAVELENGTHS as u128 => {
+                    let need = film_bytes(256 * 256, n.min(usize::MAX as u128) as usize, 1)
+                        / crate::farm::memory::GIB;
+                    CliError::input(format!(
+                        "{text}; a 256x256 film of {n} would need about {need:.1} GiB of memory"
+                    ))
+                }
+                _ => e.into(),
+            },
+            _ => e.into(),
         }
-        if let Some(d) = self.max_depth {
-            if d > 1000 {
-                return Err(CliError::input("--max-depth must be at most 1000"));
-            }
-            scene.settings.max_depth = d;
-        }
-        if let Some(p) = self.prune {
-            if !(p.is_finite() && p >= 0.0) {
-                return Err(CliError::input("--prune must be a number ≥ 0"));
-            }
-            scene.settings.prune = p;
-        }
-        if let Some(s) = self.seed {
-            scene.settings.seed = s;
-        }
-        Ok(block)
     }
 
     /// The overrides as command-line arguments (for job scripts).
@@ -304,31 +331,16 @@ impl SceneOverrides {
     }
 }
 
-/// The largest image side (scene files' `camera.resolution` has the same
-/// bound).
-pub const MAX_SIDE: u32 = 65536;
-
-/// Refuses a `--wavelengths` count above the scene format's bound before
-/// the set is built (its list alone could exhaust memory).
-fn check_wavelength_count(spec: &str) -> Result<(), CliError> {
-    let max = crate::scene::file::MAX_WAVELENGTHS;
-    match spec.trim().parse::<u128>() {
-        Ok(n) if n > max as u128 => Err(CliError::input(format!(
-            "--wavelengths {n}: at most {max} wavelengths (0.04 nm apart; a 256x256 film of \
-             {n} would need about {:.1} GiB of memory)",
-            film_bytes(256 * 256, n.min(usize::MAX as u128) as usize, 1) / crate::farm::memory::GIB
-        ))),
-        _ => Ok(()),
-    }
-}
+/// The largest image side, checked with the other settings.
+pub use crate::render::settings::MAX_SIDE;
 
 fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s
         .split_once(['x', 'X'])
         .ok_or_else(|| format!("`{s}` is not WIDTHxHEIGHT"))?;
     let p = |v: &str| v.trim().parse::<u32>().ok().filter(|&v| v >= 1);
-    // The side limit is checked with the scene (SceneOverrides), where
-    // the message can say what the film would cost.
+    // The side limit is checked with the other settings
+    // (render::settings); SceneOverrides adds what the film would cost.
     match (p(w), p(h)) {
         (Some(w), Some(h)) => Ok((w, h)),
         _ => Err(format!(

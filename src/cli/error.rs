@@ -175,3 +175,9 @@ mod tests {
         assert_eq!(invalid.kind(), ErrorKind::Internal);
     }
 }
+
+impl From<crate::render::settings::SettingsError> for CliError {
+    fn from(e: crate::render::settings::SettingsError) -> CliError {
+        CliError::input(e.to_string())
+    }
+}

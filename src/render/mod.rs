@@ -1,6 +1,7 @@
 //! The renderer: what it renders ([`world`]: the scene, [`light`]: its
 //! lights), the camera, deterministic sampling, the backward ray-tree
 //! integrator and its approximations ([`approx`], presets in [`quality`]),
+//! its settings and their one validator ([`settings`]),
 //! the film, the summation order and pixel regions, the maps that turn a
 //! film into images, and [`prepare`], from a scene to what rendering it
 //! takes.
@@ -24,6 +25,7 @@ pub mod prepare;
 pub mod quality;
 pub mod region;
 pub mod sampling;
+pub mod settings;
 pub mod world;
 
 use crate::accel::Intersector;

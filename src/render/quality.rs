@@ -2,7 +2,8 @@
 //! ([`super::approx`]) of a render in one word.
 
 use super::approx::{Approximations, DispersionMode};
-use super::world::{RenderSettings, DEFAULT_MAX_DEPTH, DEFAULT_PRUNE};
+use super::settings::{Origin, Set, SettingsLayer};
+use super::world::{DEFAULT_MAX_DEPTH, DEFAULT_PRUNE};
 use std::fmt;
 
 /// `--quality` presets, points of the measured speed-against-error front
@@ -47,11 +48,21 @@ impl Quality {
         }
     }
 
-    /// Sets the preset's values in a scene's render settings.
-    pub fn apply(self, settings: &mut RenderSettings) {
+    /// The preset as a settings layer (depth, pruning and the
+    /// approximations), each value's origin the preset.
+    pub fn layer(self) -> SettingsLayer {
         let (depth, prune, approx) = self.settings();
-        settings.max_depth = depth;
-        settings.prune = prune;
-        settings.approx = approx;
+        fn from<T>(q: Quality, value: T) -> Option<Set<T>> {
+            Some(Set::new(value, Origin::Preset(q.to_string())))
+        }
+        SettingsLayer {
+            max_depth: from(self, depth),
+            prune: from(self, prune),
+            branching: from(self, approx.strategy.branching),
+            polarization: from(self, approx.strategy.polarization),
+            spectral: from(self, approx.spectral),
+            dispersion: from(self, approx.dispersion),
+            ..SettingsLayer::default()
+        }
     }
 }

@@ -48,10 +48,9 @@ use toml::Spanned;
 
 pub type V3 = [f64; 3];
 
-/// The most wavelengths a render may trace (0.04 nm apart over 380–780
-/// nm; colour cannot change past far fewer): a bound before any list is
-/// built, which memory checks then refine.
-pub const MAX_WAVELENGTHS: u32 = 10_000;
+/// The most wavelengths a render may trace, checked with the other
+/// settings ([`crate::render::settings`]) before any list is built.
+pub use crate::render::settings::MAX_WAVELENGTHS;
 
 /// The name a fixed-length field has in scene files, for its errors.
 pub trait FieldName {
@@ -207,19 +206,13 @@ pub struct CameraDef {
 /// [`MAX_WAVELENGTHS`] either way.
 #[derive(Debug, Clone)]
 pub enum WavelengthsDef {
-    Count(u32),
+    Count(u64),
     List(Vec<f64>),
 }
 
 impl<'de> Deserialize<'de> for WavelengthsDef {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         struct V;
-        fn too_many<E: de::Error>(n: impl std::fmt::Display) -> E {
-            E::custom(format!(
-                "{n} wavelengths: at most {MAX_WAVELENGTHS} (0.04 nm apart; more cannot \
-                 change a colour, and each costs film memory)"
-            ))
-        }
         impl<'de> Visitor<'de> for V {
             type Value = WavelengthsDef;
             fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
@@ -237,18 +230,12 @@ impl<'de> Deserialize<'de> for WavelengthsDef {
                 self.visit_u64(n as u64)
             }
             fn visit_u64<E: de::Error>(self, n: u64) -> Result<Self::Value, E> {
-                if n > MAX_WAVELENGTHS as u64 {
-                    return Err(too_many(n));
-                }
-                Ok(WavelengthsDef::Count(n as u32))
+                Ok(WavelengthsDef::Count(n))
             }
             fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
                 let mut list = Vec::new();
                 while let Some(v) = seq.next_element::<f64>()? {
                     list.push(v);
-                    if list.len() > MAX_WAVELENGTHS as usize {
-                        return Err(too_many(format!("more than {MAX_WAVELENGTHS}")));
-                    }
                 }
                 Ok(WavelengthsDef::List(list))
             }

@@ -9,13 +9,15 @@ pub mod light;
 
 use crate::geometry::Mesh;
 use crate::material::{Dispersion, Material};
-use crate::render::approx::{Approximations, BranchingArg, DispersionMode, PolarizationArg};
+use crate::render::approx::{BranchingArg, DispersionMode, PolarizationArg};
 use crate::render::camera::Camera;
 pub use crate::render::light::{Light, Polarization, Texture};
+use crate::render::settings::{
+    resolve, Origin, Set, Settings, SettingsError, SettingsLayer, Wavelengths,
+};
 pub use crate::render::world::{
     Object, RenderSettings, Scene, DEFAULT_MAX_DEPTH, DEFAULT_PRUNE, DEFAULT_WAVELENGTHS,
 };
-use crate::spectrum::WavelengthSet;
 use file::{DispersionDef, DispersionModel, ScaleDef, SceneFile, TransformDef, WavelengthsDef};
 use glam::{DAffine3, DMat3, DVec3};
 use std::fmt;
@@ -45,6 +47,26 @@ impl fmt::Display for SceneError {
 }
 
 impl std::error::Error for SceneError {}
+
+/// A scene file's refused setting as a scene error: the same file, line,
+/// field and message.
+fn scene_error(e: SettingsError) -> SceneError {
+    match e.origin {
+        Origin::File { file, line, field } => SceneError {
+            file,
+            line,
+            field,
+            message: e.message,
+        },
+        // A scene file's layer has file origins only.
+        other => SceneError {
+            file: String::new(),
+            line: None,
+            field: String::new(),
+            message: SettingsError { origin: other, ..e }.to_string(),
+        },
+    }
+}
 
 /// Turns byte offsets into line numbers for one file.
 struct Locator<'a> {
@@ -117,74 +139,70 @@ impl Scene {
         let eye = vec3(&loc, &c.eye, "camera.eye")?;
         let look_at = vec3(&loc, &c.look_at, "camera.look_at")?;
         let up = vec3(&loc, &c.up, "camera.up")?;
-        let [w, h] = *c.resolution.get_ref();
-        if w == 0 || h == 0 || w > 65536 || h > 65536 {
-            return loc.err(
-                c.resolution.span(),
-                "camera.resolution",
-                format!("{w}×{h} is not a usable resolution (1 to 65536 per side)"),
-            );
-        }
         let fov = *c.fov.get_ref();
-        let camera = Camera::new(eye, look_at, up, fov, w, h)
-            .or_else(|m| loc.err(c.eye.span(), "camera", m))?;
-        let samples = *c.samples.get_ref();
-        if samples == 0 {
-            return loc.err(c.samples.span(), "camera.samples", "must be at least 1");
-        }
 
-        // Render settings.
+        // Render settings: the file's values as one layer, checked with
+        // every other source's (render::settings).
         let r = &def.render;
-        let wavelengths = match &r.wavelengths {
-            None => WavelengthSet::uniform(DEFAULT_WAVELENGTHS).expect("default set"),
-            Some(s) => match s.get_ref() {
-                WavelengthsDef::Count(n) => WavelengthSet::uniform(*n as usize),
-                WavelengthsDef::List(list) => WavelengthSet::from_list(list),
-            }
-            .or_else(|e| loc.err(s.span(), "render.wavelengths", e.to_string()))?,
+        let origin = |span: std::ops::Range<usize>, field: &str| Origin::File {
+            file: file.to_string(),
+            line: loc.line(span),
+            field: field.to_string(),
         };
-        let max_depth = r
-            .max_depth
-            .as_ref()
-            .map_or(DEFAULT_MAX_DEPTH, |d| *d.get_ref());
-        if let Some(d) = &r.max_depth {
-            if *d.get_ref() > 1000 {
-                return loc.err(d.span(), "render.max_depth", "must be at most 1000");
-            }
-        }
-        let prune = r.prune.as_ref().map_or(DEFAULT_PRUNE, |p| *p.get_ref());
-        if let Some(p) = &r.prune {
-            if !(p.get_ref().is_finite() && *p.get_ref() >= 0.0) {
-                return loc.err(
-                    p.span(),
-                    "render.prune",
-                    "must be a number ≥ 0 (0: no pruning)",
-                );
-            }
-        }
-        let mut approx = Approximations::default();
+        let mut layer = SettingsLayer {
+            samples: Some(Set::new(
+                *c.samples.get_ref(),
+                origin(c.samples.span(), "camera.samples"),
+            )),
+            resolution: Some(Set::new(
+                (c.resolution.get_ref()[0], c.resolution.get_ref()[1]),
+                origin(c.resolution.span(), "camera.resolution"),
+            )),
+            wavelengths: r.wavelengths.as_ref().map(|s| {
+                Set::new(
+                    match s.get_ref() {
+                        WavelengthsDef::Count(n) => Wavelengths::Count(*n),
+                        WavelengthsDef::List(list) => Wavelengths::List(list.clone()),
+                    },
+                    origin(s.span(), "render.wavelengths"),
+                )
+            }),
+            max_depth: r
+                .max_depth
+                .as_ref()
+                .map(|d| Set::new(*d.get_ref(), origin(d.span(), "render.max_depth"))),
+            prune: r
+                .prune
+                .as_ref()
+                .map(|p| Set::new(*p.get_ref(), origin(p.span(), "render.prune"))),
+            seed: r.seed.map(|v| Set::new(v, origin(0..0, "render.seed"))),
+            ..SettingsLayer::default()
+        };
         if let Some(b) = &r.branching {
-            approx.strategy.branching = b
+            let v = b
                 .get_ref()
                 .parse::<BranchingArg>()
                 .or_else(|e| loc.err(b.span(), "render.branching", e))?
                 .0;
+            layer.branching = Some(Set::new(v, origin(b.span(), "render.branching")));
         }
         if let Some(b) = &r.polarization {
-            approx.strategy.polarization = b
+            let v = b
                 .get_ref()
                 .parse::<PolarizationArg>()
                 .or_else(|e| loc.err(b.span(), "render.polarization", e))?
                 .0;
+            layer.polarization = Some(Set::new(v, origin(b.span(), "render.polarization")));
         }
         if let Some(b) = &r.spectral {
-            approx.spectral = b
+            let v = b
                 .get_ref()
                 .parse()
                 .or_else(|e: String| loc.err(b.span(), "render.spectral", e))?;
+            layer.spectral = Some(Set::new(v, origin(b.span(), "render.spectral")));
         }
         if let Some(d) = &r.dispersion {
-            approx.dispersion = match d.get_ref() {
+            let v = match d.get_ref() {
                 toml::Value::Boolean(true) => DispersionMode::On,
                 toml::Value::Boolean(false) => DispersionMode::Off,
                 toml::Value::String(t) => t
@@ -199,14 +217,15 @@ impl Scene {
                     ),
                 )?,
             };
+            layer.dispersion = Some(Set::new(v, origin(d.span(), "render.dispersion")));
         }
-        let settings = RenderSettings {
-            wavelengths,
-            max_depth,
-            prune,
-            seed: r.seed.unwrap_or(0),
-            approx,
-        };
+        let Settings {
+            samples,
+            resolution: (w, h),
+            render: settings,
+        } = resolve(Settings::defaults(), &[&layer]).map_err(scene_error)?;
+        let camera = Camera::new(eye, look_at, up, fov, w, h)
+            .or_else(|m| loc.err(c.eye.span(), "camera", m))?;
 
         // Objects.
         let mut objects = Vec::new();

@@ -4,6 +4,7 @@
 
 use crate::cli::args::{SamplesArg, SceneOverrides};
 use crate::cli::error::CliError;
+use crate::render::settings::Origin;
 use crate::scene::Scene;
 
 /// One point of the sweep: settings applied on top of the scene's, as
@@ -64,17 +65,31 @@ impl Config {
             let first = msg.lines().next().unwrap_or_default();
             bad(first.trim_start_matches("error: "))
         })?;
-        // What SceneOverrides::apply refuses that needs no scene to see,
-        // refused here already.
-        match parsed.overrides.samples {
-            Some(SamplesArg::Count(0)) => return Err(bad("spp must be at least 1")),
-            Some(SamplesArg::Block { .. }) => return Err(bad("spp is a count per pixel")),
-            _ => {}
+        if let Some(SamplesArg::Block { .. }) = parsed.overrides.samples {
+            return Err(bad("spp is a count per pixel"));
         }
-        Ok(Config {
+        let config = Config {
             label,
             overrides: parsed.overrides,
-        })
+        };
+        // The values refused already, by the check every setting passes
+        // (render::settings), before any scene is loaded.
+        for layer in config.overrides.layers(&|flag| config.origin(flag)) {
+            layer.check().map_err(|e| e.to_string())?;
+        }
+        Ok(config)
+    }
+
+    /// A value's origin: this point and the key standing for `flag`.
+    fn origin(&self, flag: &str) -> Origin {
+        let key = KEYS
+            .iter()
+            .find(|(_, f)| *f == flag)
+            .map_or(flag, |(k, _)| k);
+        Origin::Sweep {
+            point: self.label.clone(),
+            key: key.to_string(),
+        }
     }
 
     /// The scene with these settings (a preset first, then the rest),
@@ -82,8 +97,8 @@ impl Config {
     pub fn apply(&self, scene: &Scene) -> Result<Scene, String> {
         let mut s = scene.clone();
         self.overrides
-            .apply(&mut s)
-            .map_err(|e| format!("`{}`: {e}", self.label))?;
+            .apply_from(&mut s, &|flag| self.origin(flag))
+            .map_err(|e| e.to_string())?;
         Ok(s)
     }
 }
