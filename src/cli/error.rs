@@ -142,6 +142,12 @@ impl From<crate::image::ImageError> for CliError {
     }
 }
 
+impl From<crate::render::settings::SettingsError> for CliError {
+    fn from(e: crate::render::settings::SettingsError) -> CliError {
+        CliError::input(e.to_string())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -173,11 +179,5 @@ mod tests {
         assert_eq!(write.to_string(), "cannot write image 'a.png': no");
         assert_eq!(read.kind(), ErrorKind::Input);
         assert_eq!(invalid.kind(), ErrorKind::Internal);
-    }
-}
-
-impl From<crate::render::settings::SettingsError> for CliError {
-    fn from(e: crate::render::settings::SettingsError) -> CliError {
-        CliError::input(e.to_string())
     }
 }
