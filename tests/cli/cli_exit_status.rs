@@ -3,8 +3,8 @@
 //! nothing). The exit status comes from the error's kind alone
 //! (`spar::cli::ErrorKind::exit_status`).
 
-use spar::cli::{CliError, ErrorKind};
 use crate::support::run::{self, code_out_err};
+use spar::cli::{CliError, ErrorKind};
 use std::path::{Path, PathBuf};
 
 /// Runs spar in `dir`: its exit status and standard error.
