@@ -12,7 +12,7 @@ use crate::render::prepare;
 use crate::render::quality::Quality;
 use crate::render::region::{Rect, TileSpec};
 use crate::render::settings::{
-    self, Field, Origin, Set, SettingsError, SettingsLayer, Wavelengths,
+    self, Field, Origin, Set, SettingsError, SettingsLayer, Wavelengths, MAX_SIDE,
 };
 use crate::scene::Scene;
 use crate::spectrum::WavelengthSet;
@@ -330,9 +330,6 @@ impl SceneOverrides {
         a
     }
 }
-
-/// The largest image side, checked with the other settings.
-pub use crate::render::settings::MAX_SIDE;
 
 fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s

@@ -48,10 +48,6 @@ use toml::Spanned;
 
 pub type V3 = [f64; 3];
 
-/// The most wavelengths a render may trace, checked with the other
-/// settings ([`crate::render::settings`]) before any list is built.
-pub use crate::render::settings::MAX_WAVELENGTHS;
-
 /// The name a fixed-length field has in scene files, for its errors.
 pub trait FieldName {
     const NAME: &'static str;
@@ -203,7 +199,7 @@ pub struct CameraDef {
 }
 
 /// `wavelengths = 21` (a count over 380–780 nm) or a list in nm; at most
-/// [`MAX_WAVELENGTHS`] either way.
+/// [`crate::render::settings::MAX_WAVELENGTHS`] either way.
 #[derive(Debug, Clone)]
 pub enum WavelengthsDef {
     Count(u64),
