@@ -184,3 +184,33 @@ impl Mul for Jones {
         self.product(&rhs)
     }
 }
+
+impl Jones {
+    /// An ideal linear polarizer whose transmission axis is at `theta`
+    /// radians from basis x toward y: the projector `a aᵀ`, `a = (cos θ,
+    /// sin θ)` (Born & Wolf §1.4; a Malus-law element).
+    pub fn linear_polarizer(theta: f64) -> Jones {
+        let (s, c) = theta.sin_cos();
+        let r = |v: f64| Complex64::new(v, 0.0);
+        Jones {
+            rows: 2,
+            cols: 2,
+            m: [[r(c * c), r(c * s)], [r(c * s), r(s * s)]],
+        }
+    }
+
+    /// An ideal retarder (waveplate) with its fast axis at `theta` radians
+    /// from basis x toward y and retardance `delta` radians: the slow
+    /// component lags by `delta`. With fields `exp(i(k·r − ωt))` a wave
+    /// that lags has the larger phase, so in the (fast, slow) basis the
+    /// plate is `diag(1, exp(iδ))`, and here `Rᵀ diag(1, e^{iδ}) R` with
+    /// `R` = [`Jones::rotation`]`(θ)` (docs/physics.md §1.4).
+    pub fn retarder(theta: f64, delta: f64) -> Jones {
+        let r = Jones::rotation(theta);
+        let d = Jones::diagonal(ONE, Complex64::from_polar(1.0, delta));
+        let mut rt = r;
+        rt.m[0][1] = r.m[1][0];
+        rt.m[1][0] = r.m[0][1];
+        rt.product(&d.product(&r))
+    }
+}

@@ -41,11 +41,51 @@ pub enum PolarizationModel {
     Scalar,
 }
 
-/// The integrator's strategy (defaults: the exact full tree).
+/// How the paths of one camera sample combine (docs/physics.md §9).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum CoherenceModel {
+    /// Paths that reach the same mode of the same light add as complex
+    /// amplitudes (with their propagation phases, the light's spatial
+    /// coherence and the wavelength band's temporal coherence); other
+    /// paths add as intensities. The physics.
+    #[default]
+    Physical,
+    /// Every path adds as an intensity (coherence matrices summed at every
+    /// node): the o and e waves of a crystal never interfere, nor do a
+    /// film's reflections. The seed paper's model.
+    Incoherent,
+}
+
+impl FromStr for CoherenceModel {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.trim() {
+            "physical" => Ok(CoherenceModel::Physical),
+            "incoherent" => Ok(CoherenceModel::Incoherent),
+            _ => Err(format!(
+                "`{s}`: coherence is \"physical\" (paths from one source mode add as \
+                 amplitudes) or \"incoherent\" (every path adds as an intensity)"
+            )),
+        }
+    }
+}
+
+impl fmt::Display for CoherenceModel {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            CoherenceModel::Physical => "physical",
+            CoherenceModel::Incoherent => "incoherent",
+        })
+    }
+}
+
+/// The integrator's strategy (defaults: the exact full tree, coherent
+/// sums).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct Strategy {
     pub branching: Branching,
     pub polarization: PolarizationModel,
+    pub coherence: CoherenceModel,
 }
 
 /// How the colour wavelengths are sampled.

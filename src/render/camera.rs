@@ -1,4 +1,5 @@
-//! The pinhole camera and the per-ray polarization frame of the film.
+//! The camera (pinhole or orthographic), the per-ray polarization frame of
+//! the film, and an optional analyzer in front of it.
 //!
 //! Stokes frame (Mitsuba 3's `stokes` integrator convention): for a camera
 //! ray of direction d, the light arriving travels along −d; the receiver
@@ -6,9 +7,20 @@
 //! right, y = x × d is image up, and (x, y, −d) is right-handed.
 //! S1 > 0 is horizontal, S2 > 0 is at +45° from image right toward image up.
 
+use crate::optics::Jones;
 use glam::DVec3;
 
-/// A pinhole camera.
+/// How film positions become rays.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Projection {
+    /// Every ray starts at the eye; the vertical field of view is given.
+    Pinhole,
+    /// Every ray travels along the viewing direction from a point of the
+    /// image plane through the eye, `width` scene units across the image.
+    Orthographic { width: f64 },
+}
+
+/// A camera.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Camera {
     pub eye: DVec3,
@@ -18,6 +30,11 @@ pub struct Camera {
     tan_half_fov: f64,
     pub width: u32,
     pub height: u32,
+    pub projection: Projection,
+    /// A Jones matrix in the film's frame (x image right, y image up)
+    /// applied to the light reaching every pixel before its coherence
+    /// matrix is recorded: a polarizer, a retarder or a chain of them.
+    pub analyzer: Option<Jones>,
 }
 
 impl Camera {
@@ -55,7 +72,47 @@ impl Camera {
             tan_half_fov: (vfov_deg.to_radians() / 2.0).tan(),
             width,
             height,
+            projection: Projection::Pinhole,
+            analyzer: None,
         })
+    }
+
+    /// The same camera with an orthographic projection `width` scene
+    /// units across the image (its field of view is then unused).
+    pub fn orthographic(mut self, width: f64) -> Result<Camera, String> {
+        if !(width.is_finite() && width > 0.0) {
+            return Err(format!(
+                "an orthographic camera's width must be a finite number > 0, not {width}"
+            ));
+        }
+        self.projection = Projection::Orthographic { width };
+        Ok(self)
+    }
+
+    /// The same camera behind an analyzer (a Jones matrix in the film's
+    /// frame).
+    pub fn with_analyzer(mut self, analyzer: Option<Jones>) -> Camera {
+        self.analyzer = analyzer;
+        self
+    }
+
+    /// The viewing direction (unit).
+    pub fn forward(&self) -> DVec3 {
+        self.forward
+    }
+
+    /// The ray (origin, unit direction) through film position (`fx`,
+    /// `fy`) in pixels, (0, 0) the top-left corner.
+    pub fn ray(&self, fx: f64, fy: f64) -> (DVec3, DVec3) {
+        match self.projection {
+            Projection::Pinhole => (self.eye, self.direction(fx, fy)),
+            Projection::Orthographic { width } => {
+                let height = width * self.height as f64 / self.width as f64;
+                let sx = (fx / self.width as f64 - 0.5) * width;
+                let sy = (0.5 - fy / self.height as f64) * height;
+                (self.eye + sx * self.right + sy * self.up, self.forward)
+            }
+        }
     }
 
     /// The same camera with another image size (the field of view stays
@@ -66,7 +123,7 @@ impl Camera {
         self
     }
 
-    /// Unit direction through film position (`fx`, `fy`) in pixels, (0, 0)
+    /// Unit direction of a pinhole camera's ray through film position (`fx`, `fy`) in pixels, (0, 0)
     /// the top-left corner of the image, (width, height) the bottom-right.
     pub fn direction(&self, fx: f64, fy: f64) -> DVec3 {
         let aspect = self.width as f64 / self.height as f64;

@@ -17,14 +17,19 @@
 //!
 //! Air here has n = 1 exactly (the ambient medium of every scene).
 //!
+//! This file is the incoherent model (`coherence = "incoherent"`) and what
+//! both models share; the physical model, where paths from one source
+//! mode add as amplitudes, is [`super::coherent`] (docs/physics.md §9).
+//!
 //! Model limits, stated so nobody mistakes them for bugs:
-//! - The o and e waves of a crystal are traced as separate, mutually
-//!   incoherent rays (the seed paper's model, right when their paths
-//!   differ by more than the light's coherence length). Where they do not
-//!   separate — along the optic axis — physics would recombine them
-//!   coherently and polarized light would pass unchanged; here it is
-//!   depolarized by an amount that depends on how the degenerate o/e split
-//!   is oriented. Unpolarized light is unaffected (tests/render/render_hard_cases).
+//! - Incoherent model: the o and e waves of a crystal are traced as
+//!   separate, mutually incoherent rays (the seed paper's model, right
+//!   when their paths differ by more than the light's coherence length).
+//!   Where they do not separate — along the optic axis — physics would
+//!   recombine them coherently and polarized light would pass unchanged;
+//!   here it is depolarized by an amount that depends on how the
+//!   degenerate o/e split is oriented. Unpolarized light is unaffected
+//!   (tests/render/render_hard_cases). The physical model recombines them.
 //! - Objects must not overlap or touch, and the camera must not be inside
 //!   one: scene loading refuses both (`geometry::overlap`). Should a ray
 //!   inside one object still meet another, it is counted as lost
@@ -39,7 +44,7 @@ use crate::accel::{Intersector, Ray};
 use crate::optics::backward::Feeders;
 use crate::optics::modes::{Side, WaveKind};
 use crate::optics::{Coherence, Interface, Jones, Medium};
-use crate::render::approx::{Branching, PolarizationModel, Strategy};
+use crate::render::approx::{Branching, CoherenceModel, PolarizationModel, Strategy};
 use crate::render::sampling::{dim, SampleKey};
 use crate::render::world::Scene;
 use glam::DVec3;
@@ -127,7 +132,7 @@ pub const LOST_WARNING_FRACTION: f64 = 1e-4;
 impl Stats {
     /// Counts a lost ray of one cause.
     #[inline]
-    fn lose(&mut self, cause: fn(&mut LostCauses) -> &mut u64) {
+    pub(super) fn lose(&mut self, cause: fn(&mut LostCauses) -> &mut u64) {
         self.lost += 1;
         *cause(&mut self.causes) += 1;
     }
@@ -218,6 +223,10 @@ impl Stats {
 pub struct WavelengthMedia {
     pub lambda_nm: f64,
     pub objects: Vec<Medium>,
+    /// Width of the band of the spectrum this wavelength stands for, nm
+    /// (0: one wavelength, fully coherent): cross terms between coherent
+    /// paths are weighted by the band's coherence (docs/physics.md §9.4).
+    pub band_nm: f64,
 }
 
 impl WavelengthMedia {
@@ -232,6 +241,7 @@ impl WavelengthMedia {
     pub fn with_geometry_at(scene: &Scene, lambda_nm: f64, geometry_nm: f64) -> WavelengthMedia {
         WavelengthMedia {
             lambda_nm,
+            band_nm: 0.0,
             objects: scene
                 .objects
                 .iter()
@@ -256,12 +266,12 @@ pub struct TreeSettings {
 
 /// Traces backward trees through one scene.
 pub struct Tracer<'a> {
-    scene: &'a Scene,
-    accel: &'a dyn Intersector,
-    settings: TreeSettings,
-    strategy: Strategy,
+    pub(super) scene: &'a Scene,
+    pub(super) accel: &'a dyn Intersector,
+    pub(super) settings: TreeSettings,
+    pub(super) strategy: Strategy,
     /// Offset of secondary ray origins from the surface, in scene units.
-    epsilon: f64,
+    pub(super) epsilon: f64,
     /// A sphere (centre, radius) around every object: rays from outside it
     /// are started on it.
     bounds: Option<(DVec3, f64)>,
@@ -286,7 +296,7 @@ struct Query {
 /// Largest squared singular value of a Jones block: the most intensity it
 /// can pass (λ_max of TᴴT, closed form for 2×2).
 #[inline]
-fn max_gain(t: &Jones) -> f64 {
+pub(super) fn max_gain(t: &Jones) -> f64 {
     let col = |c: usize| (0..t.rows).map(|r| t.m[r][c].norm_sqr()).sum::<f64>();
     if t.cols == 1 {
         return col(0);
@@ -301,7 +311,7 @@ fn max_gain(t: &Jones) -> f64 {
 
 /// Intensity a block passes from unpolarized light: ‖T‖²_F / cols.
 #[inline]
-fn unpolarized_gain(t: &Jones) -> f64 {
+pub(super) fn unpolarized_gain(t: &Jones) -> f64 {
     t.norm_sqr() / t.cols as f64
 }
 
@@ -346,6 +356,14 @@ impl<'a> Tracer<'a> {
     pub fn with_strategy(mut self, strategy: Strategy) -> Tracer<'a> {
         self.strategy = strategy;
         self
+    }
+
+    /// True when paths add as amplitudes ([`CoherenceModel::Physical`]
+    /// with the full polarization model: the scalar model carries
+    /// intensities only, so its paths add as intensities).
+    pub fn is_coherent(&self) -> bool {
+        self.strategy.coherence == CoherenceModel::Physical
+            && self.strategy.polarization == PolarizationModel::Full
     }
 
     /// The coherence matrix, in the basis `basis` (two unit vectors
@@ -400,6 +418,9 @@ impl<'a> Tracer<'a> {
             batch.iter().all(|m| m.objects == batch[0].objects),
             "a batch must share its geometry"
         );
+        if self.is_coherent() {
+            return self.trace_coherent(origin, dir, basis, batch, key, out, stats);
+        }
         let q = Query {
             origin,
             dir,
@@ -422,7 +443,7 @@ impl<'a> Tracer<'a> {
     /// precision is lost), or `None` when it misses the sphere and so every
     /// object.
     #[inline]
-    fn start_in_bounds(&self, origin: DVec3, dir: DVec3) -> (Option<Ray>, f64) {
+    pub(super) fn start_in_bounds(&self, origin: DVec3, dir: DVec3) -> (Option<Ray>, f64) {
         let Some((centre, radius)) = self.bounds else {
             return (None, 0.0);
         };
@@ -451,7 +472,7 @@ impl<'a> Tracer<'a> {
         (Some(Ray::new(start, dir)), t0)
     }
 
-    fn medium_of(&self, region: Region, media: &WavelengthMedia) -> Medium {
+    pub(super) fn medium_of(&self, region: Region, media: &WavelengthMedia) -> Medium {
         match region {
             Region::Ambient => AMBIENT,
             Region::Inside(i) => media.objects[i as usize],
@@ -512,6 +533,22 @@ impl<'a> Tracer<'a> {
                 return;
             }
             if hit.is_none() {
+                if let Some(light) = self
+                    .scene
+                    .distant_lights
+                    .iter()
+                    .find(|l| l.seen_along(q.dir))
+                {
+                    for (o, m) in out.iter_mut().zip(batch) {
+                        let j = light.emitted(m.lambda_nm, -q.dir, basis[0], basis[1]);
+                        *o = if scalar {
+                            Coherence::unpolarized(j.intensity())
+                        } else {
+                            j
+                        };
+                    }
+                    return;
+                }
                 for (o, m) in out.iter_mut().zip(batch) {
                     *o = Coherence::unpolarized(
                         self.scene.background * crate::spectrum::cie::d65(m.lambda_nm),

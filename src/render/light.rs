@@ -1,4 +1,4 @@
-//! Rectangular one-sided area lights: emission spectrum (radiance scale ×
+//! Rectangular one-sided area lights and lights at infinity: emission spectrum (radiance scale ×
 //! texture spectrum × D65) and polarization (unpolarized, an ideal linear
 //! polarizer, or a virtual calcite plate that keeps one of its two waves).
 //! `spar::scene::light` reads them from scene files.
@@ -160,33 +160,134 @@ impl Light {
         y: DVec3,
     ) -> Coherence {
         let l = self.spectral_radiance(s, t, lambda_nm);
-        let field = match self.polarization {
-            Polarization::Unpolarized => return Coherence::unpolarized(l),
-            // A sheet (dichroic or wire-grid) polarizer absorbs the field
-            // along its absorbing axis a = N × t in its plane and passes
-            // E ∥ k × a (Korger et al. 2013; Mitsuba 3's `polarizer`); at
-            // normal incidence that is the transmission axis t itself.
-            Polarization::Linear { axis } => k.cross(self.normal.cross(axis)),
-            Polarization::CalcitePlate { keep, axis } => {
-                // Ordinary wave: E ∥ k × c (docs/physics.md §4.3); along the axis the
-                // two waves are degenerate: take the light's first edge.
-                let mut e_o = k.cross(axis);
-                if e_o.length_squared() < 1e-24 {
-                    e_o = self.u;
-                }
-                match keep {
-                    PlateWave::Ordinary => e_o,
-                    PlateWave::Extraordinary => k.cross(e_o),
-                }
+        filtered(self.polarization, self.normal, self.u, l, k, x, y)
+    }
+
+    /// The polarization state of unit radiance leaving along `k`, in the
+    /// basis (x, y) transverse to `k` ([`Self::emitted`] is this times
+    /// [`Self::spectral_radiance`]).
+    pub fn state(&self, k: DVec3, x: DVec3, y: DVec3) -> Coherence {
+        filtered(self.polarization, self.normal, self.u, 1.0, k, x, y)
+    }
+}
+
+/// The unit field a filter passes for a ray along unit `k`: `None` for
+/// unpolarized light, the zero vector when the filter passes nothing
+/// along `k`. `normal` is the filter's plane normal, `fallback` a vector
+/// in its plane (for a calcite plate seen along its axis).
+pub fn passed_field(
+    polarization: Polarization,
+    normal: DVec3,
+    fallback: DVec3,
+    k: DVec3,
+) -> Option<DVec3> {
+    let field = match polarization {
+        Polarization::Unpolarized => return None,
+        // A sheet (dichroic or wire-grid) polarizer absorbs the field
+        // along its absorbing axis a = N × t in its plane and passes
+        // E ∥ k × a (Korger et al. 2013; Mitsuba 3's `polarizer`); at
+        // normal incidence that is the transmission axis t itself.
+        Polarization::Linear { axis } => k.cross(normal.cross(axis)),
+        Polarization::CalcitePlate { keep, axis } => {
+            // Ordinary wave: E ∥ k × c (docs/physics.md §4.3); along the axis the
+            // two waves are degenerate: take the filter's first edge.
+            let mut e_o = k.cross(axis);
+            if e_o.length_squared() < 1e-24 {
+                e_o = fallback;
             }
-        };
-        let e = (field - field.dot(k) * k).normalize_or_zero();
-        if e == DVec3::ZERO {
-            // The filter's axis is along the ray: it passes nothing.
-            return Coherence::zero(2);
+            match keep {
+                PlateWave::Ordinary => e_o,
+                PlateWave::Extraordinary => k.cross(e_o),
+            }
         }
-        let jones = [Complex64::new(e.dot(x), 0.0), Complex64::new(e.dot(y), 0.0)];
-        // An ideal filter passes half of unpolarized light.
-        Coherence::from_jones_vector(jones).scaled(0.5 * l)
+    };
+    Some((field - field.dot(k) * k).normalize_or_zero())
+}
+
+/// Light of radiance `l` through a filter ([`passed_field`]) along `k`,
+/// as a coherence matrix in the basis (x, y) transverse to `k`: `l`
+/// unpolarized, or half of it fully polarized (an ideal filter passes half
+/// of unpolarized light).
+fn filtered(
+    polarization: Polarization,
+    normal: DVec3,
+    fallback: DVec3,
+    l: f64,
+    k: DVec3,
+    x: DVec3,
+    y: DVec3,
+) -> Coherence {
+    match passed_field(polarization, normal, fallback, k) {
+        None => Coherence::unpolarized(l),
+        // The filter's axis is along the ray: it passes nothing.
+        Some(e) if e == DVec3::ZERO => Coherence::zero(2),
+        Some(e) => {
+            let jones = [Complex64::new(e.dot(x), 0.0), Complex64::new(e.dot(y), 0.0)];
+            Coherence::from_jones_vector(jones).scaled(0.5 * l)
+        }
+    }
+}
+
+/// Half-angle, in radians, within which a backward ray sees a collimated
+/// light at infinity (`angular_diameter = 0`): 1e-6 rad (0.2″). A
+/// collimated beam is a delta in direction; a renderer that traces rays
+/// sees it only along rays that arrive exactly from it, which it gets to
+/// rounding (1e-15 rad) through flat, parallel surfaces, and misses
+/// otherwise. Its `radiance` is what such a ray sees.
+pub const COLLIMATED_HALF_ANGLE: f64 = 1e-6;
+
+/// A light at infinity: plane waves travelling within a cone around
+/// `direction` (a sun-like disc of `angular_diameter`, or a collimated
+/// beam when that is 0), of uniform radiance and polarization. Each
+/// direction is one plane wave: paths that arrive from the same direction
+/// are mutually coherent (docs/physics.md §9).
+#[derive(Clone, Debug, PartialEq)]
+pub struct DistantLight {
+    /// Unit direction the light travels (from the light into the scene).
+    pub direction: DVec3,
+    /// Full angular diameter of the disc of directions, radians (0:
+    /// collimated).
+    pub angular_diameter: f64,
+    /// Radiance scale (× D65).
+    pub radiance: f64,
+    /// A filter in the plane normal to `direction` (the sheet polarizer's
+    /// `N` is `direction`).
+    pub polarization: Polarization,
+}
+
+impl DistantLight {
+    /// Cosine of the half-angle within which a backward ray sees it.
+    #[inline]
+    pub fn cos_half_angle(&self) -> f64 {
+        (0.5 * self.angular_diameter)
+            .max(COLLIMATED_HALF_ANGLE)
+            .min(std::f64::consts::PI)
+            .cos()
+    }
+
+    /// True when a backward ray along unit `d` (toward the light) sees it.
+    #[inline]
+    pub fn seen_along(&self, d: DVec3) -> bool {
+        (-d).dot(self.direction) >= self.cos_half_angle()
+    }
+
+    /// The coherence matrix of the light travelling along unit `k` (one of
+    /// its directions), in the basis (x, y) transverse to `k`.
+    pub fn emitted(&self, lambda_nm: f64, k: DVec3, x: DVec3, y: DVec3) -> Coherence {
+        self.state(k, x, y)
+            .scaled(self.spectral_radiance(lambda_nm))
+    }
+
+    /// Spectral radiance (in units of D65), before any filter.
+    #[inline]
+    pub fn spectral_radiance(&self, lambda_nm: f64) -> f64 {
+        self.radiance * cie::d65(lambda_nm)
+    }
+
+    /// The polarization state of unit radiance along `k`, in the basis
+    /// (x, y) transverse to `k`.
+    pub fn state(&self, k: DVec3, x: DVec3, y: DVec3) -> Coherence {
+        let fallback = self.direction.any_orthonormal_vector();
+        filtered(self.polarization, self.direction, fallback, 1.0, k, x, y)
     }
 }

@@ -17,6 +17,7 @@
 pub mod approx;
 pub mod blocks;
 pub mod camera;
+pub mod coherent;
 pub mod film;
 pub mod integrator;
 pub mod light;
@@ -91,7 +92,12 @@ fn geometry_groups(scene: &Scene, opts: &RenderOptions) -> Vec<(Vec<usize>, Vec<
             DispersionMode::Bands(_) if i == mono => l,
             d => d.geometry_nm(l, lo, hi),
         };
-        let m = WavelengthMedia::with_geometry_at(scene, l, geometry_nm);
+        let mut m = WavelengthMedia::with_geometry_at(scene, l, geometry_nm);
+        m.band_nm = if i < mono {
+            band_nm(&opts.lambdas[..mono], i)
+        } else {
+            0.0
+        };
         match groups.iter_mut().find(|(_, b)| b[0].objects == m.objects) {
             Some((idx, batch)) => {
                 idx.push(i);
@@ -101,6 +107,19 @@ fn geometry_groups(scene: &Scene, opts: &RenderOptions) -> Vec<(Vec<usize>, Vec<
         }
     }
     groups
+}
+
+/// Width of the band colour wavelength `i` of `colour` stands for: half
+/// the distance between its neighbours (its own distance to the one
+/// neighbour at an end), 0 for a single wavelength (docs/physics.md §9.4).
+fn band_nm(colour: &[f64], i: usize) -> f64 {
+    let gap = |a: usize, b: usize| (colour[a] - colour[b]).abs();
+    match (i.checked_sub(1), (i + 1 < colour.len()).then_some(i + 1)) {
+        (Some(a), Some(b)) => 0.5 * gap(b, a),
+        (Some(a), None) => gap(i, a),
+        (None, Some(b)) => gap(b, i),
+        (None, None) => 0.0,
+    }
 }
 
 /// For each offset of the rotating wavelength strata, the batches to trace:
@@ -358,7 +377,7 @@ pub fn render_part(
                         };
                         let (jx, jy) = key.pixel_position();
                         let (fx, fy) = (x as f64 + jx, y as f64 + jy);
-                        let d = camera.direction(fx, fy);
+                        let (eye, d) = camera.ray(fx, fy);
                         let (bx, by) = camera.stokes_frame(d);
                         let leaf = Node {
                             start: sample as u64,
@@ -367,21 +386,16 @@ pub fn render_part(
                         acc.push_with(leaf, |v| {
                             for (idx, batch) in &batches[offset] {
                                 let out = &mut out[..idx.len()];
-                                tracer.trace_camera(
-                                    camera.eye,
-                                    d,
-                                    [bx, by],
-                                    batch,
-                                    &key,
-                                    out,
-                                    &mut stats,
-                                );
+                                tracer.trace_camera(eye, d, [bx, by], batch, &key, out, &mut stats);
                                 for (&i, j) in idx.iter().zip(out.iter()) {
                                     // A thinned-out colour wavelength stands
                                     // for the `stride` samples it is traced
                                     // in one of.
                                     let w = if i < colour { stride as f64 } else { 1.0 };
-                                    let s = j.stokes();
+                                    let s = match &camera.analyzer {
+                                        Some(a) => j.transform(a).stokes(),
+                                        None => j.stokes(),
+                                    };
                                     v[4 * i..4 * i + 4].copy_from_slice(&[
                                         (w * s.s0) as f32,
                                         (w * s.s1) as f32,

@@ -4,7 +4,7 @@
 
 use super::approx::Approximations;
 use super::camera::Camera;
-use super::light::Light;
+use super::light::{DistantLight, Light};
 use crate::geometry::Mesh;
 use crate::material::Material;
 use crate::spectrum::WavelengthSet;
@@ -35,6 +35,9 @@ pub const DEFAULT_MAX_DEPTH: u32 = 30;
 /// Default pruning threshold, a fraction of the brightest emitter.
 pub const DEFAULT_PRUNE: f64 = 1e-4;
 
+/// Nanometres per scene unit unless a scene says otherwise: millimetres.
+pub const DEFAULT_UNIT_NM: f64 = 1e6;
+
 /// One solid object: a closed mesh in world space and its material (a
 /// crystal's optic axis already in world space).
 #[derive(Clone, Debug)]
@@ -52,6 +55,11 @@ pub struct Scene {
     pub settings: RenderSettings,
     pub objects: Vec<Object>,
     pub lights: Vec<Light>,
+    /// Lights at infinity.
+    pub distant_lights: Vec<DistantLight>,
+    /// The length of one scene unit in nanometres (`[render] units`;
+    /// millimetres by default): propagation phases need it.
+    pub unit_nm: f64,
     /// Unpolarized background radiance, in units of D65.
     pub background: f64,
     /// The scene file's text, for the render's identity.

@@ -106,6 +106,7 @@ fn stochastic_and_hybrid_branching_are_unbiased() {
                     Tracer::new(&scene, accel.as_ref(), settings).with_strategy(Strategy {
                         branching,
                         polarization: PolarizationModel::Full,
+                        ..Strategy::default()
                     });
                 let (mean, se) = sampled_mean(&tracer, eye, d, [x, y], &media, 20_000);
                 for c in 0..4 {
@@ -190,6 +191,7 @@ fn scalar_transport_is_unpolarized_and_exact_without_interfaces() {
     let scalar = Tracer::new(&scene, accel.as_ref(), settings).with_strategy(Strategy {
         branching: Branching::Full,
         polarization: PolarizationModel::Scalar,
+        ..Strategy::default()
     });
     let full = Tracer::new(&scene, accel.as_ref(), settings);
     let media = WavelengthMedia::new(&scene, 550.0);

@@ -1,0 +1,564 @@
+//! The physical model of light (`coherence = "physical"`, docs/physics.md
+//! §9): the paths of one camera sample that reach the same mode of the
+//! same light add as complex amplitudes before a coherence matrix is
+//! formed; other paths add as intensities.
+//!
+//! The tree is walked as in the incoherent model ([`super::integrator`]),
+//! but a backward ray carries the transfer matrix `A` of its path (from its
+//! wave's modes to the camera's basis, the product of the Jones blocks and
+//! changes of basis along it) and its optical path length instead of
+//! returning coherence matrices. Where a path reaches a light it becomes a
+//! [`Leaf`]. A sample's leaves are then grouped by source mode: the same
+//! light and the same direction of travel (within [`SAME_DIRECTION`]). For
+//! a group `g` and a wavelength λ (§9.2):
+//!
+//! `J = Σ_{i,j ∈ g} γ_ij exp(i(φ_i − φ_j)) M_i J_L M_jᴴ`,
+//!
+//! `M_i` the transfer from the light's field basis to the camera's, `φ_i =
+//! 2π L_i / λ` the phase of the optical path `L_i = Σ k·Δr` (the wave
+//! vector of each segment's own eigenwave, in units of the vacuum wave
+//! number, so an extraordinary wave's phase follows its wave normal while
+//! its ray walks off), `J_L` the light's coherence matrix at unit radiance
+//! scaled by the geometric mean of the two paths' radiances, and `γ_ij` the
+//! product of the light's spatial coherence (1 for a light at infinity:
+//! one direction is one plane wave; `2J₁(v)/v`, `v = π θ δ / λ`, for an area
+//! light of angular diameter θ and paths δ apart, van Cittert–Zernike) and
+//! the band's temporal coherence (`sinc(π ΔL Δλ / λ²)` for a flat band Δλ
+//! wide). Groups are found by sorting, not by comparing every pair.
+
+use super::integrator::{max_gain, Region, Stats, Tracer, WavelengthMedia};
+use super::sampling::{dim, SampleKey};
+use crate::accel::Ray;
+use crate::optics::backward::Feeders;
+use crate::optics::modes::{Side, WaveKind};
+use crate::optics::{Coherence, Interface, Jones};
+use crate::render::approx::Branching;
+use glam::DVec3;
+use num_complex::Complex64;
+use std::cell::RefCell;
+
+/// Two paths travel in the same direction when their unit directions
+/// differ by at most this much (radians, about): paths through parallel
+/// flat faces agree to rounding (1e-15), paths through different facets
+/// differ by far more.
+pub const SAME_DIRECTION: f64 = 1e-9;
+
+/// Which light a path reached.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+enum Source {
+    /// The uniform background: spatially incoherent from every direction
+    /// (each of its leaves adds as an intensity).
+    Background,
+    /// Area light `i` of [`crate::render::world::Scene::lights`].
+    Area(u32),
+    /// Light at infinity `i` of
+    /// [`crate::render::world::Scene::distant_lights`].
+    Distant(u32),
+}
+
+/// A path that reached a light.
+#[derive(Clone, Copy, Debug)]
+struct Leaf {
+    /// Camera basis (rows) ← the light's field basis [`source_basis`]
+    /// (columns): the path's amplitude transfer, sampling weight included.
+    m: [[Complex64; 2]; 2],
+    /// Optical path length from the light's plane-wave reference (the
+    /// world origin) to the camera, scene units.
+    opl: f64,
+    source: Source,
+    /// Unit direction the light travels where the path leaves for it.
+    k: DVec3,
+    /// Where the path leaves for the light (a surface point, or the
+    /// camera).
+    point: DVec3,
+    /// Face coordinates on an area light.
+    st: (f64, f64),
+    /// Solid angle of an area light seen from `point`, sr.
+    solid_angle: f64,
+}
+
+/// One backward ray of the coherent walk.
+#[derive(Clone, Copy, Debug)]
+struct Path {
+    /// Where the ray is traced from (offset from the surface it leaves).
+    origin: DVec3,
+    /// The exact point the ray leaves (on the surface, or the camera):
+    /// phases are measured from here.
+    anchor: DVec3,
+    dir: DVec3,
+    region: Region,
+    kind: WaveKind,
+    depth: u32,
+    /// Product of the gains along the path (the bound pruning tests).
+    throughput: f64,
+    /// Which branch of the full tree this is (random numbers).
+    branch: u64,
+    /// Wave vector of the wave on this segment, units of the vacuum wave
+    /// number.
+    k: DVec3,
+    /// Optical path length from this segment's far end to the camera.
+    opl: f64,
+    /// Camera basis ← the modes of the basis this ray was asked in.
+    a: Jones,
+}
+
+thread_local! {
+    static LEAVES: RefCell<Vec<Leaf>> = const { RefCell::new(Vec::new()) };
+}
+
+/// The light's field basis for a path leaving along `k`: `e1` the
+/// reference `r` made transverse to `k`, `e2 = k × e1` (right-handed
+/// with `k`). Every path of a group has the same `k` (to rounding), and
+/// so the same basis.
+fn source_basis(k: DVec3, r: DVec3) -> [DVec3; 2] {
+    let mut e1 = (r - r.dot(k) * k).normalize_or_zero();
+    if e1 == DVec3::ZERO {
+        e1 = k.any_orthonormal_vector();
+    }
+    [e1, k.cross(e1)]
+}
+
+/// `2 J₁(v) / v`, the degree of coherence of light from a uniform
+/// incoherent disc at points `v` apart in its reduced units (van
+/// Cittert–Zernike; Born & Wolf §10.4.2, eq. 10.4(29)).
+pub fn jinc(v: f64) -> f64 {
+    if v.abs() < 1e-8 {
+        1.0
+    } else {
+        2.0 * libm::j1(v) / v
+    }
+}
+
+/// `sin(x) / x`: the coherence of a flat band at a path difference that
+/// makes `x = π ΔL Δλ / λ²` (the Fourier transform of a rectangle;
+/// Born & Wolf §7.5.8).
+pub fn sinc(x: f64) -> f64 {
+    if x.abs() < 1e-8 {
+        1.0
+    } else {
+        x.sin() / x
+    }
+}
+
+fn c(re: f64) -> Complex64 {
+    Complex64::new(re, 0.0)
+}
+
+/// `a · b · cᴴ` for 2×2 complex matrices.
+#[inline]
+fn sandwich(
+    a: &[[Complex64; 2]; 2],
+    b: &[[Complex64; 2]; 2],
+    cm: &[[Complex64; 2]; 2],
+) -> [[Complex64; 2]; 2] {
+    let mut ab = [[Complex64::new(0.0, 0.0); 2]; 2];
+    for r in 0..2 {
+        for k in 0..2 {
+            ab[r][k] = a[r][0] * b[0][k] + a[r][1] * b[1][k];
+        }
+    }
+    let mut out = [[Complex64::new(0.0, 0.0); 2]; 2];
+    for r in 0..2 {
+        for k in 0..2 {
+            out[r][k] = ab[r][0] * cm[k][0].conj() + ab[r][1] * cm[k][1].conj();
+        }
+    }
+    out
+}
+
+impl Tracer<'_> {
+    /// [`Tracer::trace_camera`] in the physical model.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn trace_coherent(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        basis: [DVec3; 2],
+        batch: &[WavelengthMedia],
+        key: &SampleKey,
+        out: &mut [Coherence],
+        stats: &mut Stats,
+    ) {
+        LEAVES.with(|cell| {
+            let mut leaves = cell.borrow_mut();
+            leaves.clear();
+            let root = Path {
+                origin,
+                anchor: origin,
+                dir,
+                region: Region::Ambient,
+                kind: WaveKind::Isotropic,
+                depth: 0,
+                throughput: 1.0,
+                branch: 0,
+                k: -dir,
+                opl: 0.0,
+                a: Jones::identity(2),
+            };
+            self.walk(&root, &basis, &batch[0], key, &mut leaves, stats);
+            self.sum_leaves(&leaves, batch, out);
+        });
+    }
+
+    /// Follows one backward ray, pushing a leaf for every path that reaches
+    /// a light. `basis` is the basis the ray's wave was asked in.
+    #[allow(clippy::too_many_arguments)]
+    fn walk(
+        &self,
+        p: &Path,
+        basis: &[DVec3; 2],
+        media: &WavelengthMedia,
+        key: &SampleKey,
+        leaves: &mut Vec<Leaf>,
+        stats: &mut Stats,
+    ) {
+        stats.rays += 1;
+        let (ray, t0) = self.start_in_bounds(p.origin, p.dir);
+        let hit = match ray {
+            Some(ray) if crate::accel::traceable(&ray) => self.accel.intersect(&ray),
+            Some(_) => {
+                stats.lose(|c| &mut c.untraceable);
+                return;
+            }
+            None => None,
+        };
+        let t_hit = hit.map_or(f64::INFINITY, |h| h.t + t0);
+        if p.region == Region::Ambient && self.reach_light(p, basis, t_hit, leaves) {
+            return;
+        }
+        let Some(hit) = hit else {
+            stats.lose(|c| &mut c.escaped);
+            return;
+        };
+        let ray: Ray = ray.expect("a hit has a ray");
+        if p.depth >= self.settings.max_depth {
+            stats.depth_cut += 1;
+            return;
+        }
+        let object = hit.geom;
+        let outward = self.scene.objects[object as usize]
+            .mesh
+            .triangle_normal(hit.prim);
+        let (normal, other) = match p.region {
+            Region::Ambient => (outward, Region::Inside(object)),
+            Region::Inside(i) if i == object => (-outward, Region::Ambient),
+            Region::Inside(_) => {
+                stats.lose(|c| &mut c.overlap);
+                return;
+            }
+        };
+        let leaving = -p.dir;
+        if !(leaving.dot(normal) > 0.0) {
+            if p.depth == 0 {
+                stats.lose(|c| &mut c.camera_inside);
+            } else {
+                stats.lose(|c| &mut c.wrong_side);
+            }
+            return;
+        }
+        let Ok(iface) = Interface::new(
+            normal,
+            self.medium_of(p.region, media),
+            self.medium_of(other, media),
+        ) else {
+            stats.lose(|c| &mut c.solver);
+            return;
+        };
+        let Ok(feeders): Result<Feeders, _> = iface.feeders(Side::Plus, p.kind, leaving) else {
+            stats.lose(|c| &mut c.solver);
+            return;
+        };
+        stats.nodes += 1;
+        // The hit on the facet's plane along this path's own line from its
+        // anchor: the traced ray started `epsilon` off the surface, which
+        // would shift the phase by up to ε·|t|/λ (tenths of a wave).
+        let traced = ray.at(hit.t);
+        let denom = p.dir.dot(normal);
+        let s = (traced - p.anchor).dot(normal) / denom;
+        let point = if s.is_finite() && s > 0.0 && denom.abs() > 1e-12 {
+            p.anchor + s * p.dir
+        } else {
+            traced
+        };
+        // Forward, the segment's wave travels from `point` to the anchor.
+        let opl = p.opl + p.k.dot(p.anchor - point);
+        let target = feeders.target;
+        let list = feeders.as_slice();
+        // The target's field in the basis this ray was asked in.
+        let into_asked = Jones::change_of_basis(
+            &target.basis[..target.modes()],
+            &basis[..p.kind.mode_count()],
+        );
+        let a_node = p.a.product(&into_asked);
+        let gains: [f64; 4] =
+            std::array::from_fn(|i| list.get(i).map_or(0.0, |f| max_gain(&f.block)));
+
+        let sampled = match self.strategy.branching {
+            Branching::Full => false,
+            Branching::Stochastic => true,
+            Branching::Hybrid { full_depth } => p.depth >= full_depth,
+        };
+        let total: f64 = gains.iter().sum();
+        let mut chosen: [(usize, f64); 4] = [(0, 0.0); 4];
+        let mut n_chosen = 0;
+        if sampled {
+            if total > 0.0 {
+                let u = key.uniform_at(dim::BRANCH + p.depth, p.branch) * total;
+                let mut acc = 0.0;
+                let mut pick = list.len() - 1;
+                for (i, g) in gains.iter().enumerate().take(list.len()) {
+                    acc += g;
+                    if u < acc {
+                        pick = i;
+                        break;
+                    }
+                }
+                while gains[pick] == 0.0 && pick > 0 {
+                    pick -= 1;
+                }
+                chosen[0] = (pick, total / gains[pick]);
+                n_chosen = 1;
+            }
+        } else {
+            for i in 0..list.len() {
+                chosen[n_chosen] = (i, 1.0);
+                n_chosen += 1;
+            }
+        }
+        for &(i, weight) in &chosen[..n_chosen] {
+            let f = &list[i];
+            let throughput = p.throughput * gains[i];
+            if throughput < self.settings.prune {
+                stats.pruned += 1;
+                continue;
+            }
+            let (region, offset) = match f.wave.side {
+                Side::Plus => (p.region, normal),
+                Side::Minus => (other, -normal),
+            };
+            // A sampled branch stands for its siblings with weight 1/p on
+            // its intensity: √weight on its amplitude.
+            let mut a = a_node.product(&f.block);
+            if weight != 1.0 {
+                a = a.scaled(c(weight.sqrt()));
+            }
+            let child = Path {
+                origin: point + self.epsilon * offset,
+                anchor: point,
+                dir: -f.wave.ray,
+                region,
+                kind: f.wave.kind,
+                depth: p.depth + 1,
+                throughput,
+                branch: if sampled {
+                    p.branch
+                } else {
+                    p.branch.wrapping_mul(4).wrapping_add(i as u64 + 1)
+                },
+                k: f.wave.k,
+                opl,
+                a,
+            };
+            self.walk(&child, &f.wave.basis, media, key, leaves, stats);
+        }
+    }
+
+    /// For a ray in air: pushes the leaf of the light it reaches before
+    /// `t_hit` (the nearest area light in front of the nearest surface;
+    /// with no surface, a light at infinity it looks into, or the
+    /// background) and returns true when the ray ends there.
+    fn reach_light(
+        &self,
+        p: &Path,
+        basis: &[DVec3; 2],
+        t_hit: f64,
+        leaves: &mut Vec<Leaf>,
+    ) -> bool {
+        let scene = self.scene;
+        let k = -p.dir;
+        let mut best: Option<(f64, usize, f64, f64)> = None;
+        for (i, light) in scene.lights.iter().enumerate() {
+            if let Some((t, s, tt)) = light.hit(p.origin, p.dir) {
+                if t < t_hit && best.is_none_or(|b| t < b.0) {
+                    best = Some((t, i, s, tt));
+                }
+            }
+        }
+        let (source, reference, st, solid_angle) = if let Some((t, i, s, tt)) = best {
+            let light = &scene.lights[i];
+            let area = light.u.cross(light.v).length();
+            let cos = p.dir.dot(light.normal).abs();
+            let solid_angle = (area * cos / (t * t)).min(2.0 * std::f64::consts::PI);
+            (Source::Area(i as u32), light.u, (s, tt), solid_angle)
+        } else if t_hit.is_finite() {
+            return false;
+        } else if let Some(i) = scene
+            .distant_lights
+            .iter()
+            .position(|l| l.seen_along(p.dir))
+        {
+            let l = &scene.distant_lights[i];
+            (
+                Source::Distant(i as u32),
+                l.direction.any_orthonormal_vector(),
+                (0.0, 0.0),
+                0.0,
+            )
+        } else if scene.background > 0.0 {
+            (Source::Background, DVec3::X, (0.0, 0.0), 0.0)
+        } else {
+            return true;
+        };
+        let sb = source_basis(k, reference);
+        let m = p.a.product(&Jones::change_of_basis(&sb, basis));
+        leaves.push(Leaf {
+            m: m.m,
+            opl: p.opl + k.dot(p.anchor),
+            source,
+            k,
+            point: p.anchor,
+            st,
+            solid_angle,
+        });
+        true
+    }
+
+    /// The camera's coherence matrix at each wavelength of `batch` from a
+    /// sample's leaves (module docs).
+    fn sum_leaves(&self, leaves: &[Leaf], batch: &[WavelengthMedia], out: &mut [Coherence]) {
+        let zero = [[Complex64::new(0.0, 0.0); 2]; 2];
+        let mut acc = vec![zero; batch.len()];
+        // Sort by source, then by the first direction component, and sweep:
+        // each leaf joins the first earlier leaf of its source whose
+        // direction matches (a group's members then follow its first).
+        let mut order: Vec<u32> = (0..leaves.len() as u32).collect();
+        order.sort_unstable_by(|&a, &b| {
+            let (la, lb) = (&leaves[a as usize], &leaves[b as usize]);
+            la.source.cmp(&lb.source).then(la.k.x.total_cmp(&lb.k.x))
+        });
+        let mut group_of = vec![u32::MAX; leaves.len()];
+        let mut members: Vec<u32> = Vec::new();
+        for (pos, &i) in order.iter().enumerate() {
+            if group_of[i as usize] != u32::MAX {
+                continue;
+            }
+            let li = &leaves[i as usize];
+            members.clear();
+            members.push(i);
+            group_of[i as usize] = i;
+            if li.source != Source::Background {
+                for &j in &order[pos + 1..] {
+                    let lj = &leaves[j as usize];
+                    if lj.source != li.source || lj.k.x - li.k.x > SAME_DIRECTION {
+                        break;
+                    }
+                    if group_of[j as usize] == u32::MAX
+                        && (lj.k - li.k).length_squared() <= SAME_DIRECTION * SAME_DIRECTION
+                    {
+                        group_of[j as usize] = i;
+                        members.push(j);
+                    }
+                }
+            }
+            self.add_group(leaves, &members, batch, &mut acc);
+        }
+        for (o, a) in out.iter_mut().zip(&acc) {
+            *o = Coherence::from_matrix(*a);
+        }
+    }
+
+    /// Adds one group's `Σ γ_ij e^{i(φ_i − φ_j)} √(l_i l_j) M_i J M_jᴴ` at
+    /// every wavelength (module docs).
+    fn add_group(
+        &self,
+        leaves: &[Leaf],
+        members: &[u32],
+        batch: &[WavelengthMedia],
+        acc: &mut [[[Complex64; 2]; 2]],
+    ) {
+        let scene = self.scene;
+        let first = &leaves[members[0] as usize];
+        // The light's state at unit radiance, in the group's source basis.
+        // (The same references as [`Self::reach_light`]'s.)
+        let state = match first.source {
+            Source::Background => Coherence::unpolarized(1.0),
+            Source::Area(i) => {
+                let l = &scene.lights[i as usize];
+                let b = source_basis(first.k, l.u);
+                l.state(first.k, b[0], b[1])
+            }
+            Source::Distant(i) => {
+                let l = &scene.distant_lights[i as usize];
+                let b = source_basis(first.k, l.direction.any_orthonormal_vector());
+                l.state(first.k, b[0], b[1])
+            }
+        };
+        let j_l = state.matrix();
+        let radiance = |leaf: &Leaf, lambda: f64| -> f64 {
+            match leaf.source {
+                Source::Background => scene.background * crate::spectrum::cie::d65(lambda),
+                Source::Area(i) => {
+                    scene.lights[i as usize].spectral_radiance(leaf.st.0, leaf.st.1, lambda)
+                }
+                Source::Distant(i) => scene.distant_lights[i as usize].spectral_radiance(lambda),
+            }
+        };
+        let unit = scene.unit_nm;
+        for (m, a) in batch.iter().zip(acc.iter_mut()) {
+            let lambda = m.lambda_nm;
+            if members.len() == 1 {
+                let l = radiance(first, lambda);
+                if l == 0.0 {
+                    continue;
+                }
+                let x = sandwich(&first.m, &j_l, &first.m);
+                for r in 0..2 {
+                    for col in 0..2 {
+                        a[r][col] += x[r][col] * l;
+                    }
+                }
+                continue;
+            }
+            let k0 = 2.0 * std::f64::consts::PI / lambda;
+            for (ii, &i) in members.iter().enumerate() {
+                let li = &leaves[i as usize];
+                let ri = radiance(li, lambda);
+                if ri == 0.0 {
+                    continue;
+                }
+                let x = sandwich(&li.m, &j_l, &li.m);
+                for r in 0..2 {
+                    for col in 0..2 {
+                        a[r][col] += x[r][col] * ri;
+                    }
+                }
+                for &j in &members[ii + 1..] {
+                    let lj = &leaves[j as usize];
+                    let rj = radiance(lj, lambda);
+                    if rj == 0.0 {
+                        continue;
+                    }
+                    let dl = (li.opl - lj.opl) * unit;
+                    let mut gamma = sinc(std::f64::consts::PI * dl * m.band_nm / (lambda * lambda));
+                    if let Source::Area(_) = li.source {
+                        let d = li.point - lj.point;
+                        let lateral = (d - d.dot(li.k) * li.k).length() * unit;
+                        let theta = 2.0 * (li.solid_angle / std::f64::consts::PI).sqrt();
+                        gamma *= jinc(std::f64::consts::PI * theta * lateral / lambda);
+                    }
+                    if gamma == 0.0 {
+                        continue;
+                    }
+                    let phase = Complex64::from_polar(gamma * (ri * rj).sqrt(), k0 * dl);
+                    let x = sandwich(&li.m, &j_l, &lj.m);
+                    // X + Xᴴ: the (i, j) and (j, i) terms.
+                    for r in 0..2 {
+                        for col in 0..2 {
+                            a[r][col] += x[r][col] * phase + (x[col][r] * phase).conj();
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
