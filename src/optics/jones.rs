@@ -204,7 +204,7 @@ impl Jones {
     /// component lags by `delta`. With fields `exp(i(k·r − ωt))` a wave
     /// that lags has the larger phase, so in the (fast, slow) basis the
     /// plate is `diag(1, exp(iδ))`, and here `Rᵀ diag(1, e^{iδ}) R` with
-    /// `R` = [`Jones::rotation`]`(θ)` (docs/physics.md §1.4).
+    /// `R` = [`Jones::rotation`]`(θ)` (docs/physics.md §9.5).
     pub fn retarder(theta: f64, delta: f64) -> Jones {
         let r = Jones::rotation(theta);
         let d = Jones::diagonal(ONE, Complex64::from_polar(1.0, delta));

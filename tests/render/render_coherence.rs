@@ -1,0 +1,436 @@
+//! Coherent light (docs/physics.md §9): the polariscope scenes of
+//! `scenes/polariscope/` against closed forms computed here, from
+//! textbook optics and the media's indices, never from spar's integrator:
+//! normal-incidence Fresnel amplitudes, Airy sums of a plate's multiply
+//! reflected waves, the uniaxial eigenwaves' k_z, Jones calculus for the
+//! polarizers and plates.
+
+use crate::support::render::render_at;
+use num_complex::Complex64;
+use spar::optics::{Coherence, Medium};
+use spar::render::integrator::{Stats, Tracer, WavelengthMedia};
+use spar::render::prepare;
+use spar::scene::Scene;
+use std::f64::consts::PI;
+use std::path::Path;
+
+type C = Complex64;
+
+fn load(name: &str) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes/polariscope")
+        .join(name);
+    Scene::load(&path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Indices (n_o, n_e) of an object's medium at `lambda` nm.
+fn indices(scene: &Scene, object: usize, lambda: f64) -> (f64, f64) {
+    match WavelengthMedia::new(scene, lambda).objects[object] {
+        Medium::Uniaxial { n_o, n_e, .. } => (n_o, n_e),
+        Medium::Isotropic { n } => (n, n),
+    }
+}
+
+/// Thickness (z extent) of an object, scene units.
+fn thickness(scene: &Scene, object: usize) -> f64 {
+    let (lo, hi) = scene.objects[object].mesh.bounds();
+    hi.z - lo.z
+}
+
+/// Energy-normalized amplitude through a plate of index `n`, thickness
+/// `d` (nm) at normal incidence, from air to air, as paths: the direct
+/// path and `k` round trips, each `(amplitude, optical path in nm)`.
+/// t₁₂t₂₁ = 4n/(1+n)² (the two faces' energy-normalized transmissions),
+/// each round trip r² = ((n−1)/(n+1))² and 2nd of path.
+fn plate_paths(n: f64, d: f64, round_trips: usize) -> Vec<(f64, f64)> {
+    let t = 4.0 * n / ((1.0 + n) * (1.0 + n));
+    let r2 = ((n - 1.0) / (n + 1.0)).powi(2);
+    (0..=round_trips)
+        .map(|k| (t * r2.powi(k as i32), (2 * k + 1) as f64 * n * d))
+        .collect()
+}
+
+/// The Airy transmission amplitude of a plate: Σ over every round trip,
+/// 4n/(1+n)² e^{iδ} / (1 − r² e^{2iδ}), δ = 2π n d / λ.
+fn airy_t(n: f64, d: f64, lambda: f64) -> C {
+    let r2 = ((n - 1.0) / (n + 1.0)).powi(2);
+    let delta = 2.0 * PI * n * d / lambda;
+    C::from_polar(4.0 * n / ((1.0 + n) * (1.0 + n)), delta)
+        / (C::new(1.0, 0.0) - C::from_polar(r2, 2.0 * delta))
+}
+
+/// Stokes parameters of a Jones vector (x, y): S3 = 2 Im(Ex Ey*), the
+/// convention of docs/physics.md §1.3.
+fn stokes_of(e: [C; 2]) -> [f64; 4] {
+    let (a, b) = (e[0], e[1]);
+    [
+        a.norm_sqr() + b.norm_sqr(),
+        a.norm_sqr() - b.norm_sqr(),
+        2.0 * (a * b.conj()).re,
+        2.0 * (a * b.conj()).im,
+    ]
+}
+
+fn centre_stokes(film: &spar::render::film::Film, i: usize) -> [f64; 4] {
+    let (w, h) = (film.width, film.height);
+    crate::support::render::mean_stokes(film, w / 2 - 2, w / 2 + 2, h / 2 - 2, h / 2 + 2, i)
+}
+
+#[test]
+fn light_along_the_optic_axis_keeps_its_polarization() {
+    let scene = load("optic-axis.toml");
+    let (film, stats) = render_at(&scene, &[580.0]);
+    assert_eq!(stats.lost, 0);
+    let s = centre_stokes(&film, 0);
+    let (dop, azimuth, _) = crate::support::render::polarimetry(s);
+    assert!(dop >= 1.0 - 1e-6, "DoP {dop}");
+    assert!((azimuth - 30.0).abs() <= 1e-4, "azimuth {azimuth}°");
+    // Along the axis both eigenwaves have n_o: the plate is an isotropic
+    // Fabry–Perot of index n_o for a monochromatic render. The light seen
+    // directly (an image corner, outside the plate) is the reference.
+    let direct = film.stokes(0, 0, 0)[0];
+    assert!(direct > 0.0);
+    let (n_o, _) = indices(&scene, 0, 580.0);
+    let d = thickness(&scene, 0) * scene.unit_nm;
+    let t = airy_t(n_o, d, 580.0).norm_sqr();
+    let ratio = s[0] / direct;
+    assert!(
+        (ratio - t).abs() <= 1e-4,
+        "S0/S0_light {ratio} vs Airy transmission {t} (two faces alone: {})",
+        (4.0 * n_o / (1.0 + n_o).powi(2)).powi(2)
+    );
+}
+
+#[test]
+fn the_incoherent_model_depolarizes_along_the_optic_axis() {
+    // The seed paper's model on the same scene: the check above is one
+    // that model fails (docs/physics.md §5.5).
+    let mut scene = load("optic-axis.toml");
+    scene.settings.approx.strategy.coherence = spar::render::approx::CoherenceModel::Incoherent;
+    let (film, _) = render_at(&scene, &[580.0]);
+    let (dop, _, _) = crate::support::render::polarimetry(centre_stokes(&film, 0));
+    assert!(dop < 0.999, "DoP {dop}");
+}
+
+/// The field after a plate of indices (n_o, n_e) and thickness d (nm)
+/// whose optic axis lies in its plane at `axis_deg` from x, for incident
+/// light polarized along x, at `lambda` nm, with every internal reflection
+/// (monochromatic: fully coherent). The e wave's field lies along the
+/// axis, the o wave's across it; each is an Airy sum of its own index.
+fn waveplate_field(n_o: f64, n_e: f64, d: f64, axis_deg: f64, lambda: f64) -> [C; 2] {
+    let (s, c) = axis_deg.to_radians().sin_cos();
+    let e_axis = [c, s];
+    let o_axis = [-s, c];
+    let (te, to) = (airy_t(n_e, d, lambda), airy_t(n_o, d, lambda));
+    // Incident E = (1, 0): its components along e and o.
+    let (ae, ao) = (e_axis[0], o_axis[0]);
+    [
+        te * ae * e_axis[0] + to * ao * o_axis[0],
+        te * ae * e_axis[1] + to * ao * o_axis[1],
+    ]
+}
+
+#[test]
+fn a_quarter_wave_plate_makes_circular_light_of_the_predicted_hand() {
+    let scene = load("quarter-wave.toml");
+    let (film, _) = render_at(&scene, &[580.0]);
+    let s = centre_stokes(&film, 0);
+    // Derivation of the sign: quartz-like, n_e > n_o, so the e wave
+    // (field along the axis at 45°) lags the o wave by δ = π/2. Incident
+    // E = (1, 0) = (ê − ô)/√2 with ê = (1, 1)/√2, ô = (−1, 1)/√2; after
+    // the plate, up to a common phase, E ∝ e^{iπ/2} ê − ô = ((1+i), (i−1))/2,
+    // so Ey = i Ex: E(t) = Re((1, i) e^{−iωt}) = (cos ωt, sin ωt) turns from
+    // x to y, counter-clockwise for the camera, which looks back at the
+    // light with x right and y up: left-handed, S3 = 2 Im(Ex Ey*) < 0.
+    let (n_o, n_e) = indices(&scene, 0, 580.0);
+    let d = thickness(&scene, 0) * scene.unit_nm;
+    let expected = stokes_of(waveplate_field(n_o, n_e, d, 45.0, 580.0));
+    assert!(expected[3] < 0.0);
+    assert!(s[3] / s[0] <= -0.99, "S3/S0 = {}", s[3] / s[0]);
+    for c in 1..4 {
+        let (got, want) = (s[c] / s[0], expected[c] / expected[0]);
+        assert!(
+            (got - want).abs() <= 1e-3,
+            "S{c}/S0 {got} vs closed form {want}"
+        );
+    }
+    // And the transmitted intensity relative to the light seen directly.
+    let direct = film.stokes(0, 0, 0)[0];
+    assert!((s[0] / direct - expected[0]).abs() <= 1e-3);
+}
+
+#[test]
+fn a_half_wave_plate_rotates_linear_light_by_twice_its_axis_angle() {
+    let scene = load("half-wave.toml");
+    let (film, _) = render_at(&scene, &[580.0]);
+    let s = centre_stokes(&film, 0);
+    let (dop, azimuth, _) = crate::support::render::polarimetry(s);
+    assert!(dop >= 0.999, "DoP {dop}");
+    // Linear light at 0° through a half-wave plate at 22.5° leaves at
+    // 2 · 22.5° − 0° = 45°.
+    assert!((azimuth - 45.0).abs() <= 0.05, "azimuth {azimuth}°");
+    let (n_o, n_e) = indices(&scene, 0, 580.0);
+    let d = thickness(&scene, 0) * scene.unit_nm;
+    let expected = stokes_of(waveplate_field(n_o, n_e, d, 22.5, 580.0));
+    for c in 1..4 {
+        let (got, want) = (s[c] / s[0], expected[c] / expected[0]);
+        assert!((got - want).abs() <= 1e-3, "S{c}/S0 {got} vs {want}");
+    }
+}
+
+/// Transmission of a plate (axis at 45°, thickness d nm) between crossed
+/// polarizers (x, then y) for unit intensity behind the first polarizer,
+/// at `lambda` with a band `band` nm wide: the o and e paths (direct and
+/// `round_trips` round trips each) add with the band's coherence
+/// sinc(π ΔL Δλ/λ²) on every cross term (docs/physics.md §9.4). The y
+/// component of path p is ±½ a_p e^{iφ_p} (e: +, o: −).
+fn crossed_plate(n_o: f64, n_e: f64, d: f64, lambda: f64, band: f64) -> f64 {
+    let mut paths: Vec<(f64, f64)> = Vec::new(); // (signed amplitude, optical path)
+    for (a, l) in plate_paths(n_e, d, 3) {
+        paths.push((0.5 * a, l));
+    }
+    for (a, l) in plate_paths(n_o, d, 3) {
+        paths.push((-0.5 * a, l));
+    }
+    let sinc = |x: f64| if x.abs() < 1e-12 { 1.0 } else { x.sin() / x };
+    let mut i = 0.0;
+    for &(ap, lp) in &paths {
+        for &(aq, lq) in &paths {
+            let dl = lp - lq;
+            i +=
+                ap * aq * sinc(PI * dl * band / (lambda * lambda)) * (2.0 * PI * dl / lambda).cos();
+        }
+    }
+    i
+}
+
+#[test]
+fn the_michel_levy_chart_matches_plates_between_crossed_polarizers() {
+    let scene = load("michel-levy.toml");
+    let lambdas = scene.settings.wavelengths.lambdas().to_vec();
+    assert!(lambdas.len() >= 41);
+    let (film, stats) = render_at(&scene, &lambdas);
+    assert_eq!(stats.lost, 0);
+    let observer = spar::spectrum::Observer::new(&scene.settings.wavelengths).unwrap();
+    let width = 54.0; // the camera's width, mm
+    let px = |x_mm: f64| ((x_mm / width + 0.5) * film.width as f64) as u32;
+    let py = film.height / 2;
+    for k in 0..21usize {
+        let x = (k as f64 - 10.0) * 2.5;
+        let (mut rendered, mut closed) = (Vec::new(), Vec::new());
+        for (i, &lambda) in lambdas.iter().enumerate() {
+            let band = if i == 0 {
+                lambdas[1] - lambdas[0]
+            } else if i + 1 == lambdas.len() {
+                lambdas[i] - lambdas[i - 1]
+            } else {
+                0.5 * (lambdas[i + 1] - lambdas[i - 1])
+            };
+            // Unpolarized light of radiance D65 through the first polarizer.
+            let light = 0.5 * spar::spectrum::cie::d65(lambda);
+            let t = if k == 0 {
+                0.0
+            } else {
+                // Step k's plate is object k − 1.
+                let (n_o, n_e) = indices(&scene, k - 1, lambda);
+                let d = thickness(&scene, k - 1) * scene.unit_nm;
+                crossed_plate(n_o, n_e, d, lambda, band)
+            };
+            let s0 = film.stokes(px(x), py, i)[0];
+            assert!(
+                (s0 - t * light).abs() <= 1e-3 * light,
+                "step {k} ({} nm retardation) at {lambda} nm: S0 {s0} vs closed form {}",
+                100 * k,
+                t * light
+            );
+            rendered.push(s0);
+            closed.push(t * light);
+        }
+        let (a, b) = (observer.srgb(&rendered), observer.srgb(&closed));
+        for c in 0..3 {
+            assert!(
+                (a[c] - b[c]).abs() <= 0.01,
+                "step {k}: sRGB {a:?} vs closed form {b:?}"
+            );
+        }
+    }
+}
+
+/// Intensity behind the camera's analyzer of the camera ray through film
+/// direction `dir`, at `lambda` nm (one wavelength: fully coherent).
+fn analyzed(scene: &Scene, tracer: &Tracer, dir: glam::DVec3, lambda: f64) -> f64 {
+    let (x, y) = scene.camera.stokes_frame(dir);
+    let media = WavelengthMedia::new(scene, lambda);
+    let mut stats = Stats::default();
+    let j: Coherence = tracer.camera_ray(scene.camera.eye, dir, [x, y], &media, &mut stats);
+    j.transform(scene.camera.analyzer.as_ref().unwrap())
+        .intensity()
+}
+
+#[test]
+fn the_conoscope_shows_a_dark_cross_and_rings_where_the_path_difference_is_whole_waves() {
+    let scene = load("conoscope-calcite.toml");
+    let accel = prepare::accel(&scene, Default::default(), 1, None).unwrap();
+    let tracer = Tracer::new(&scene, accel.as_ref(), prepare::tree(&scene))
+        .with_strategy(scene.settings.approx.strategy);
+    let lambda = 580.0;
+    let (n_o, n_e) = indices(&scene, 0, lambda);
+    let d = thickness(&scene, 0) * scene.unit_nm;
+    // A ray at polar angle θ from the axis (−z) and azimuth φ from x.
+    let ray = |theta: f64, phi: f64| {
+        let (st, ct) = theta.sin_cos();
+        glam::DVec3::new(st * phi.cos(), st * phi.sin(), -ct)
+    };
+    // The o/e path difference of a plane wave at θ in air through a plate
+    // with its axis along the normal: tangential t = sin θ is shared;
+    // k_z,o = √(n_o² − t²); the e wave's normal surface
+    // k_t²/n_e² + k_z²/n_o² = 1 gives k_z,e = n_o √(1 − t²/n_e²). Both
+    // waves meet at the exit face with the same tangential phase, so
+    // Γ(θ) = d (k_z,o − k_z,e).
+    let gamma = |theta: f64| {
+        let t = theta.sin();
+        d * ((n_o * n_o - t * t).sqrt() - n_o * (1.0 - t * t / (n_e * n_e)).sqrt())
+    };
+    let ring = |m: f64| {
+        // Γ grows monotonically with θ: bisect Γ(θ) = m λ.
+        let (mut lo, mut hi) = (0.0f64, 0.35f64);
+        for _ in 0..80 {
+            let mid = 0.5 * (lo + hi);
+            if gamma(mid) < m * lambda {
+                lo = mid
+            } else {
+                hi = mid
+            }
+        }
+        0.5 * (lo + hi)
+    };
+    // Along the diagonal (azimuth 45°, between the cross's arms) scan θ
+    // and find the intensity minima near each predicted ring.
+    let phi = PI / 4.0;
+    let mut brightest: f64 = 0.0;
+    for m in 1..=5 {
+        let predicted = ring(m as f64);
+        let half_width = 0.25 * (ring(m as f64 + 0.5) - ring(m as f64 - 0.5));
+        // Golden-section search for the minimum within ± half_width.
+        let (mut a, mut b) = (predicted - half_width, predicted + half_width);
+        let g = (5f64.sqrt() - 1.0) / 2.0;
+        for _ in 0..60 {
+            let (c1, c2) = (b - g * (b - a), a + g * (b - a));
+            if analyzed(&scene, &tracer, ray(c1, phi), lambda)
+                < analyzed(&scene, &tracer, ray(c2, phi), lambda)
+            {
+                b = c2
+            } else {
+                a = c1
+            }
+        }
+        let found = 0.5 * (a + b);
+        let rel = (found - predicted).abs() / predicted;
+        assert!(
+            rel <= 0.01,
+            "ring {m}: dark at {:.4}°, predicted {:.4}° ({:.2} %)",
+            found.to_degrees(),
+            predicted.to_degrees(),
+            100.0 * rel
+        );
+        // Halfway between rings the light is bright.
+        brightest = brightest.max(analyzed(
+            &scene,
+            &tracer,
+            ray(ring(m as f64 + 0.5), phi),
+            lambda,
+        ));
+        let dark = analyzed(&scene, &tracer, ray(found, phi), lambda);
+        assert!(
+            dark < 0.02 * brightest.max(1e-30),
+            "ring {m}: {dark} vs {brightest}"
+        );
+    }
+    assert!(brightest > 0.0);
+    // The cross: along the polarizer (x) and analyzer (y) directions the
+    // o and e fields lie along them, and the analyzer blocks the light.
+    for phi in [0.0, PI / 2.0, PI, 1.5 * PI] {
+        for theta_deg in [2.0f64, 5.0, 9.0, 15.0] {
+            let i = analyzed(&scene, &tracer, ray(theta_deg.to_radians(), phi), lambda);
+            assert!(
+                i <= 1e-3 * brightest,
+                "cross at azimuth {:.0}°, θ {theta_deg}°: {i} vs {brightest}",
+                phi.to_degrees()
+            );
+        }
+    }
+}
+
+/// The Airy reflectance of a free-standing film (air | n, d | air) at
+/// incidence θ₀ for one polarization: r = (r₁₂ + r₂₃ e^{2iβ}) / (1 + r₁₂ r₂₃
+/// e^{2iβ}) with r₂₃ = −r₁₂ (the same interface from the other side),
+/// β = 2π n d cos θ₁ / λ (B&W §1.6.4).
+fn airy_r(n: f64, d: f64, theta0: f64, lambda: f64, s_pol: bool) -> f64 {
+    let (c0, s0) = (theta0.cos(), theta0.sin());
+    let c1 = (1.0 - (s0 / n).powi(2)).sqrt();
+    let r12 = if s_pol {
+        (c0 - n * c1) / (c0 + n * c1)
+    } else {
+        (n * c0 - c1) / (n * c0 + c1)
+    };
+    let e = C::from_polar(1.0, 2.0 * 2.0 * PI * n * d * c1 / lambda);
+    let r = (C::new(r12, 0.0) - e * r12) / (C::new(1.0, 0.0) - e * r12 * r12);
+    r.norm_sqr()
+}
+
+/// One face's reflectance (Fresnel), for comparison.
+fn face_r(n: f64, theta0: f64, s_pol: bool) -> f64 {
+    let (c0, s0) = (theta0.cos(), theta0.sin());
+    let c1 = (1.0 - (s0 / n).powi(2)).sqrt();
+    let r = if s_pol {
+        (c0 - n * c1) / (c0 + n * c1)
+    } else {
+        (n * c0 - c1) / (n * c0 + c1)
+    };
+    r * r
+}
+
+#[test]
+fn a_thin_film_reflects_the_airy_reflectance() {
+    let scene = load("thin-film.toml");
+    let accel = prepare::accel(&scene, Default::default(), 1, None).unwrap();
+    let tracer = Tracer::new(&scene, accel.as_ref(), prepare::tree(&scene))
+        .with_strategy(scene.settings.approx.strategy);
+    let (n, _) = indices(&scene, 0, 550.0);
+    let d = thickness(&scene, 0) * scene.unit_nm;
+    let theta0 = 30f64.to_radians();
+    let dir = scene.camera.forward();
+    let (x, y) = scene.camera.stokes_frame(dir);
+    let mut spread: f64 = 0.0;
+    for lambda in (400..=760).step_by(20).map(f64::from) {
+        let media = WavelengthMedia::new(&scene, lambda);
+        let mut stats = Stats::default();
+        let (origin, _) = scene.camera.ray(
+            scene.camera.width as f64 / 2.0,
+            scene.camera.height as f64 / 2.0,
+        );
+        let j = tracer.camera_ray(origin, dir, [x, y], &media, &mut stats);
+        assert_eq!(stats.lost, 0);
+        let light = spar::spectrum::cie::d65(lambda);
+        let r = j.intensity() / light;
+        let airy = 0.5 * (airy_r(n, d, theta0, lambda, true) + airy_r(n, d, theta0, lambda, false));
+        assert!(
+            (r - airy).abs() <= 1e-3,
+            "{lambda} nm: R {r} vs Airy {airy}"
+        );
+        spread = spread.max(airy);
+    }
+    // The film's colour is interference: its reflectance swings far above
+    // a single face's.
+    let single = 0.5 * (face_r(n, theta0, true) + face_r(n, theta0, false));
+    assert!(
+        spread > 3.0 * single,
+        "largest Airy reflectance {spread}, one face {single}"
+    );
+    // The rendered film is uniform and agrees with the ray above.
+    let (film, stats) = render_at(&scene, &[550.0]);
+    assert_eq!(stats.lost, 0);
+    let r = centre_stokes(&film, 0)[0] / spar::spectrum::cie::d65(550.0);
+    let airy = 0.5 * (airy_r(n, d, theta0, 550.0, true) + airy_r(n, d, theta0, 550.0, false));
+    assert!((r - airy).abs() <= 1e-3, "rendered R {r} vs Airy {airy}");
+}
