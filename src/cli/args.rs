@@ -6,7 +6,7 @@ use super::common::film_bytes;
 use super::error::CliError;
 use crate::accel::AccelKind;
 use crate::farm::progress::ProgressMode;
-use crate::render::approx::{self, BranchingArg, PolarizationArg, Spectral};
+use crate::render::approx::{self, BranchingArg, CoherenceModel, PolarizationArg, Spectral};
 use crate::render::blocks::SampleRange;
 use crate::render::prepare;
 use crate::render::quality::Quality;
@@ -163,6 +163,12 @@ pub struct SceneOverrides {
     /// intensities, an approximation). Overrides the scene.
     #[arg(long, value_parser = clap::value_parser!(PolarizationArg))]
     pub polarization: Option<PolarizationArg>,
+    /// How the paths of a camera sample combine: physical (paths from one
+    /// mode of one light add as amplitudes, the rest as intensities) or
+    /// incoherent (every path adds as an intensity, the seed paper's
+    /// model). Overrides the scene.
+    #[arg(long, value_parser = clap::value_parser!(CoherenceModel))]
+    pub coherence: Option<CoherenceModel>,
     /// Spectral sampling of the colour wavelengths: all (every one for
     /// every sample) or hero:K (K stratified wavelengths per sample,
     /// rotating across samples). Overrides the scene.
@@ -223,6 +229,7 @@ impl SceneOverrides {
             polarization: set(self.polarization.map(|p| p.0), "--polarization", origin),
             spectral: set(self.spectral, "--spectral", origin),
             dispersion: set(self.dispersion, "--dispersion", origin),
+            coherence: set(self.coherence, "--coherence", origin),
         };
         [self.quality.map(Quality::layer).unwrap_or_default(), flags]
     }
@@ -326,6 +333,9 @@ impl SceneOverrides {
         }
         if let Some(d) = self.dispersion {
             a.extend(["--dispersion".into(), d.to_string()]);
+        }
+        if let Some(c) = self.coherence {
+            a.extend(["--coherence".into(), c.to_string()]);
         }
         a
     }

@@ -13,7 +13,7 @@
 //! | `spar:format` | `spar-raw-1` |
 //! | `spar:version` | the spar that rendered it |
 //! | `spar:scene` | the scene file as named on the command line (not compared) |
-//! | `spar:scene_hash` | hash of everything rendered: camera, meshes, media, lights, textures |
+//! | `spar:scene_hash` | hash of everything rendered: camera, meshes, media, lights, textures, lights at infinity, scene unit |
 //! | `spar:settings` | resolution, samples, depth, pruning, seed, wavelengths, accelerator, ISA |
 //! | `spar:resolution` | `WxH` of the whole image |
 //! | `spar:region` | `x0,x1,y0,y1`: the pixels held (ends exclusive) |
@@ -54,17 +54,24 @@ impl std::fmt::Write for Fnv {
     }
 }
 
-/// A hash of what a scene renders: the camera, every object's mesh and
-/// medium, the lights with their textures, the background — not the
-/// scene file's text or where it lives, so a scene moved to another
-/// directory (another machine's mount point) keeps its hash. Floats enter
-/// through `Debug`, which writes each one so that it reads back exactly.
+/// A hash of what a scene renders: the camera (with its projection and
+/// analyzer), every object's mesh and medium, the lights with their
+/// textures, the lights at infinity, the background and the length of a
+/// scene unit — not the scene file's text or where it lives, so a scene
+/// moved to another directory (another machine's mount point) keeps its
+/// hash. Floats enter through `Debug`, which writes each one so that it
+/// reads back exactly.
 pub fn scene_hash(scene: &Scene) -> String {
     let mut h = Fnv(0xcbf2_9ce4_8422_2325);
     let _ = write!(
         h,
-        "{:?}|{:?}|{:?}|{:?}",
-        scene.camera, scene.objects, scene.lights, scene.background
+        "{:?}|{:?}|{:?}|{:?}|{:?}|{:?}",
+        scene.camera,
+        scene.objects,
+        scene.lights,
+        scene.background,
+        scene.distant_lights,
+        scene.unit_nm
     );
     format!("{:016x}", h.0)
 }
@@ -93,7 +100,7 @@ pub struct RenderInfo {
     pub accel: String,
     pub isa: String,
     /// Branch strategy, polarization model, spectral sampling, dispersion
-    /// (render::approx), as `key=value` pairs.
+    /// and coherence model (render::approx), as `key=value` pairs.
     pub approx: String,
 }
 
@@ -121,7 +128,10 @@ impl RenderInfo {
             mono_nm,
             accel: "embree".into(),
             isa: isa.unwrap_or("auto").to_string(),
-            approx: scene.settings.approx.to_string(),
+            approx: format!(
+                "{} coherence={}",
+                scene.settings.approx, scene.settings.approx.strategy.coherence
+            ),
         }
     }
 

@@ -7,7 +7,9 @@
 //! as `FILE:LINE: render.max_depth: must be at most 1000`, a flag as
 //! `--max-depth must be at most 1000`.
 
-use super::approx::{Approximations, Branching, DispersionMode, PolarizationModel, Spectral};
+use super::approx::{
+    Approximations, Branching, CoherenceModel, DispersionMode, PolarizationModel, Spectral,
+};
 use super::world::{RenderSettings, Scene, DEFAULT_MAX_DEPTH, DEFAULT_PRUNE, DEFAULT_WAVELENGTHS};
 use crate::spectrum::WavelengthSet;
 use std::fmt;
@@ -79,6 +81,7 @@ pub struct SettingsLayer {
     pub polarization: Option<Set<PolarizationModel>>,
     pub spectral: Option<Set<Spectral>>,
     pub dispersion: Option<Set<DispersionMode>>,
+    pub coherence: Option<Set<CoherenceModel>>,
 }
 
 /// Everything a layer can set: samples per pixel, image size and the
@@ -258,6 +261,9 @@ impl SettingsLayer {
         if let Some(d) = &self.dispersion {
             s.render.approx.dispersion = d.value;
         }
+        if let Some(c) = &self.coherence {
+            s.render.approx.strategy.coherence = c.value;
+        }
         Ok(())
     }
 
@@ -435,6 +441,7 @@ mod tests {
         let flags = SettingsLayer {
             prune: Some(Set::new(1e-6, flag("--prune"))),
             samples: Some(Set::new(8, flag("--samples"))),
+            coherence: Some(Set::new(CoherenceModel::Incoherent, flag("--coherence"))),
             ..Default::default()
         };
         let s = resolve(Settings::defaults(), &[&scene, &preset, &flags]).unwrap();
@@ -446,6 +453,10 @@ mod tests {
         assert_eq!(s.render.seed, 5);
         assert_eq!(s.render.approx.spectral, Spectral::Hero { per_sample: 3 });
         assert_eq!(s.render.approx.dispersion, DispersionMode::Off);
+        assert_eq!(
+            s.render.approx.strategy.coherence,
+            CoherenceModel::Incoherent
+        );
         // A bad flag is named even when the file's value was good.
         let bad = SettingsLayer {
             max_depth: Some(Set::new(1001, flag("--max-depth"))),

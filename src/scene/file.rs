@@ -6,15 +6,20 @@
 //! eye = [0.0, -4.0, 3.0]
 //! look_at = [0.0, 0.0, 0.0]
 //! up = [0.0, 0.0, 1.0]         # default +z
-//! fov = 30.0                   # vertical, degrees
+//! fov = 30.0                   # vertical, degrees (pinhole only)
 //! resolution = [256, 256]
 //! samples = 4                  # per pixel, default 1
+//! projection = "pinhole"       # or "orthographic", with width = W (scene units across)
+//! analyzer = { linear = 90.0 } # optional: a polarizer at DEG from image right toward up,
+//! # or { retarder = { fast_axis = 45.0, retardance = 90.0 }, then = { linear = 0.0 } }
 //!
 //! [render]
 //! wavelengths = 21             # a count over 380–780 nm, or a list [450, 550]
 //! max_depth = 13
 //! prune = 1e-4                 # 0: no pruning
 //! seed = 0
+//! coherence = "physical"       # or "incoherent" (every path adds as an intensity)
+//! units = "mm"                 # one scene unit: nm, um (µm), mm, cm or m
 //!
 //! [media.my_glass]             # custom media (optional)
 //! n = 1.5                      # constant, or { sellmeier = … }, { cauchy = … }
@@ -35,6 +40,12 @@
 //! radiance = 1.0
 //! texture = "textures/checker.png" # optional
 //! polarization = "unpolarized"     # or { linear = [1, 0, 0] } or { calcite_plate = "o", axis = [..] }
+//!
+//! [[light]]                        # a light at infinity: direction instead of corners
+//! direction = [0, 0, -1]           # where the light travels
+//! angular_diameter = 0.53          # degrees, default 0 (collimated)
+//! radiance = 1.0
+//! polarization = { linear = [1, 0, 0] }   # axis projected normal to direction
 //!
 //! [background]
 //! radiance = 0.0
@@ -76,6 +87,7 @@ field_names! {
     Rotate = "object.transform.rotate",
     Translate = "object.transform.translate",
     Corners = "light.corners",
+    Direction = "light.direction",
     Corner = "light.corners (one corner)",
     Linear = "light.polarization.linear",
     PlateAxis = "light.polarization.calcite_plate.axis",
@@ -151,17 +163,20 @@ fn opt_spanned<'de, D: Deserializer<'de>, T: Deserialize<'de>, const N: usize, F
     Ok(s.map(|s| Spanned::new(s.span(), s.into_inner().0)))
 }
 
-/// `deserialize_with` for a light's four corners of three coordinates.
-fn corners<'de, D: Deserializer<'de>>(d: D) -> Result<Spanned<[V3; 4]>, D::Error> {
-    let s = Spanned::<Exact<Exact<f64, 3, Corner>, 4, Corners>>::deserialize(d)?;
-    let span = s.span();
-    Ok(Spanned::new(span, s.into_inner().0.map(|c| c.0)))
+/// `deserialize_with` for a light's four corners of three coordinates
+/// (a light at infinity has none).
+fn corners<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Spanned<[V3; 4]>>, D::Error> {
+    let s = Option::<Spanned<Exact<Exact<f64, 3, Corner>, 4, Corners>>>::deserialize(d)?;
+    Ok(s.map(|s| {
+        let span = s.span();
+        Spanned::new(span, s.into_inner().0.map(|c| c.0))
+    }))
 }
 
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
 pub struct SceneFile {
-    pub camera: CameraDef,
+    pub camera: Spanned<CameraDef>,
     #[serde(default)]
     pub render: RenderDef,
     #[serde(default)]
@@ -190,12 +205,40 @@ pub struct CameraDef {
     pub look_at: Spanned<V3>,
     #[serde(default = "default_up", deserialize_with = "spanned::<_, _, 3, Up>")]
     pub up: Spanned<V3>,
-    /// Vertical field of view, degrees.
-    pub fov: Spanned<f64>,
+    /// Vertical field of view, degrees (required for a pinhole camera,
+    /// unused by an orthographic one).
+    pub fov: Option<Spanned<f64>>,
     #[serde(deserialize_with = "spanned::<_, _, 2, Resolution>")]
     pub resolution: Spanned<[u32; 2]>,
     #[serde(default = "default_samples")]
     pub samples: Spanned<u32>,
+    /// `pinhole` (default) or `orthographic`.
+    pub projection: Option<Spanned<String>>,
+    /// Scene units across the image of an orthographic camera.
+    pub width: Option<Spanned<f64>>,
+    /// Optical elements in front of the film, the first one the light
+    /// meets first.
+    pub analyzer: Option<Spanned<AnalyzerDef>>,
+}
+
+/// One element of a camera's analyzer: exactly one of `linear` (a sheet
+/// polarizer, its transmission axis at DEG from image right toward image
+/// up) and `retarder`, then optionally the next element the light meets.
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub struct AnalyzerDef {
+    pub linear: Option<Spanned<f64>>,
+    pub retarder: Option<Spanned<RetarderDef>>,
+    pub then: Option<Box<Spanned<AnalyzerDef>>>,
+}
+
+/// A waveplate: its fast axis at DEG from image right toward image up,
+/// its retardance in degrees (90: a quarter-wave plate).
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub struct RetarderDef {
+    pub fast_axis: Spanned<f64>,
+    pub retardance: Spanned<f64>,
 }
 
 /// `wavelengths = 21` (a count over 380–780 nm) or a list in nm; at most
@@ -256,6 +299,10 @@ pub struct RenderDef {
     /// `true`/`false`, or `"on"`, `"off"`, `"bands:K"` (checked in
     /// `Scene::parse`, which names what it takes).
     pub dispersion: Option<Spanned<toml::Value>>,
+    /// `physical` or `incoherent` (render::approx::CoherenceModel).
+    pub coherence: Option<Spanned<String>>,
+    /// The length of one scene unit: `nm`, `um` (or `µm`), `mm`, `cm`, `m`.
+    pub units: Option<Spanned<String>>,
 }
 
 /// A refractive index model: a number (constant) or one named model.
@@ -421,8 +468,16 @@ fn default_radiance() -> Spanned<f64> {
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
 pub struct LightDef {
-    #[serde(deserialize_with = "corners")]
-    pub corners: Spanned<[V3; 4]>,
+    /// A rectangle's four corners; exactly one of `corners` and
+    /// `direction` is given.
+    #[serde(default, deserialize_with = "corners")]
+    pub corners: Option<Spanned<[V3; 4]>>,
+    /// A light at infinity: the direction its light travels.
+    #[serde(default, deserialize_with = "opt_spanned::<_, _, 3, Direction>")]
+    pub direction: Option<Spanned<V3>>,
+    /// A light at infinity's full angular diameter, degrees (default 0:
+    /// collimated).
+    pub angular_diameter: Option<Spanned<f64>>,
     #[serde(default = "default_radiance")]
     pub radiance: Spanned<f64>,
     pub texture: Option<Spanned<String>>,

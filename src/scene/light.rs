@@ -1,25 +1,76 @@
 //! `[[light]]` tables: validated into the renderer's rectangular area
-//! lights ([`crate::render::light`]), textures loaded from image files or
-//! built in.
+//! lights and lights at infinity ([`crate::render::light`]), textures
+//! loaded from image files or built in.
 
-use super::file::{FilterDef, LightDef, PolarizationDef};
+use super::file::{FilterDef, LightDef, PolarizationDef, V3};
 use super::{finite3, LocFns, SceneError};
-use crate::render::light::{Light, PlateWave, Polarization, Texture};
+use crate::render::light::{DistantLight, Light, PlateWave, Polarization, Texture};
 use glam::DVec3;
 use std::path::Path;
 use toml::Spanned;
 
-/// Validates a `[[light]]` table.
+/// A validated `[[light]]` table: a rectangle or a light at infinity.
+#[derive(Debug)]
+pub(crate) enum AnyLight {
+    Area(Light),
+    Distant(DistantLight),
+}
+
+/// Validates a `[[light]]` table: exactly one of `corners` (a rectangle)
+/// and `direction` (a light at infinity).
 pub(crate) fn resolve(
     loc: &LocFns<'_>,
     l: &Spanned<LightDef>,
     base: &Path,
     index: usize,
+) -> Result<AnyLight, SceneError> {
+    let def = l.get_ref();
+    match (&def.corners, &def.direction) {
+        (Some(corners), None) => area(loc, def, corners, base, index).map(AnyLight::Area),
+        (None, Some(direction)) => distant(loc, def, direction, index).map(AnyLight::Distant),
+        (c, _) => loc.err(
+            l.span(),
+            format!("light[{index}]"),
+            format!(
+                "give exactly one of `corners` (a rectangle) and `direction` (a light at \
+                 infinity, the direction its light travels); this light has {}",
+                if c.is_some() { "both" } else { "neither" }
+            ),
+        ),
+    }
+}
+
+/// `radiance`: finite and ≥ 0.
+fn radiance(loc: &LocFns<'_>, def: &LightDef, index: usize) -> Result<f64, SceneError> {
+    let radiance = *def.radiance.get_ref();
+    if !(radiance.is_finite() && radiance >= 0.0) {
+        return loc.err(
+            def.radiance.span(),
+            format!("light[{index}].radiance"),
+            "must be a finite number ≥ 0",
+        );
+    }
+    Ok(radiance)
+}
+
+/// A rectangular area light.
+fn area(
+    loc: &LocFns<'_>,
+    def: &LightDef,
+    corners: &Spanned<[V3; 4]>,
+    base: &Path,
+    index: usize,
 ) -> Result<Light, SceneError> {
     let field = |f: &str| format!("light[{index}].{f}");
-    let def = l.get_ref();
-    let corners = def.corners.get_ref();
+    if let Some(a) = &def.angular_diameter {
+        return loc.err(
+            a.span(),
+            field("angular_diameter"),
+            "is for a light at infinity (`direction`); a rectangle (`corners`) has its own size",
+        );
+    }
     let c: Vec<DVec3> = match corners
+        .get_ref()
         .iter()
         .map(|&p| finite3(p))
         .collect::<Option<Vec<_>>>()
@@ -27,7 +78,7 @@ pub(crate) fn resolve(
         Some(c) => c,
         None => {
             return loc.err(
-                def.corners.span(),
+                corners.span(),
                 field("corners"),
                 "components must be finite numbers",
             )
@@ -39,7 +90,7 @@ pub(crate) fn resolve(
     let scale = u.length().max(v.length());
     if !(area.length() > 1e-12 * scale * scale) {
         return loc.err(
-            def.corners.span(),
+            corners.span(),
             field("corners"),
             "the corners do not span a rectangle (zero area)",
         );
@@ -47,58 +98,18 @@ pub(crate) fn resolve(
     // The fourth corner must close the parallelogram.
     if (c[0] + u + v - c[2]).length() > 1e-6 * scale {
         return loc.err(
-            def.corners.span(),
+            corners.span(),
             field("corners"),
             "corners must be listed around the rectangle (c2 = c1 + c3 − c0) and lie in one plane",
         );
     }
     let normal = area.normalize();
-    let radiance = *def.radiance.get_ref();
-    if !(radiance.is_finite() && radiance >= 0.0) {
-        return loc.err(
-            def.radiance.span(),
-            field("radiance"),
-            "must be a finite number ≥ 0",
-        );
-    }
+    let radiance = radiance(loc, def, index)?;
     let texture = match &def.texture {
         None => None,
         Some(t) => Some(load_texture(loc, t, base, &field("texture"))?),
     };
-    let polarization = match &def.polarization {
-        None => Polarization::Unpolarized,
-        Some(p) => match p.get_ref() {
-            PolarizationDef::Named(n) if n == "unpolarized" => Polarization::Unpolarized,
-            PolarizationDef::Named(n) => {
-                return loc.err(
-                    p.span(),
-                    field("polarization"),
-                    format!("unknown polarization `{n}`: use \"unpolarized\", {{ linear = [x, y, z] }} or {{ calcite_plate = {{ keep = \"o\", axis = [x, y, z] }} }}"),
-                )
-            }
-            PolarizationDef::Filter(FilterDef::Linear(a)) => {
-                let a = finite3(*a).unwrap_or(DVec3::ZERO);
-                let in_plane = a - a.dot(normal) * normal;
-                if !(in_plane.length() > 1e-9 * a.length()) || a == DVec3::ZERO {
-                    return loc.err(p.span(), field("polarization.linear"), "the polarizer's axis must be a finite vector with a component in the light's plane");
-                }
-                Polarization::Linear { axis: in_plane.normalize() }
-            }
-            PolarizationDef::Filter(FilterDef::CalcitePlate(plate)) => {
-                let keep = match plate.keep.as_str() {
-                    "o" | "ordinary" => PlateWave::Ordinary,
-                    "e" | "extraordinary" => PlateWave::Extraordinary,
-                    other => return loc.err(p.span(), field("polarization.calcite_plate.keep"), format!("`{other}`: keep \"o\" or \"e\"")),
-                };
-                let axis = finite3(plate.axis).and_then(|a| (a.length() > 0.0).then(|| a.normalize()));
-                let Some(axis) = axis else {
-                    return loc.err(p.span(), field("polarization.calcite_plate.axis"), "must be a finite non-zero vector");
-                };
-                Polarization::CalcitePlate { keep, axis }
-            }
-        },
-    };
-    let _ = l.span();
+    let polarization = polarization(loc, def, normal, "in the light's plane", index)?;
     Ok(Light {
         origin: c[0],
         u,
@@ -107,6 +118,127 @@ pub(crate) fn resolve(
         radiance,
         texture,
         polarization,
+    })
+}
+
+/// A light at infinity: a unit direction, an angular diameter in
+/// radians, no texture.
+fn distant(
+    loc: &LocFns<'_>,
+    def: &LightDef,
+    direction: &Spanned<V3>,
+    index: usize,
+) -> Result<DistantLight, SceneError> {
+    let field = |f: &str| format!("light[{index}].{f}");
+    let d = finite3(*direction.get_ref()).map_or(DVec3::ZERO, DVec3::normalize_or_zero);
+    if d == DVec3::ZERO {
+        return loc.err(
+            direction.span(),
+            field("direction"),
+            "must be a finite non-zero vector (the direction the light travels)",
+        );
+    }
+    let direction = d;
+    let angular_diameter = match &def.angular_diameter {
+        None => 0.0,
+        Some(a) => {
+            let deg = *a.get_ref();
+            if !(deg.is_finite() && (0.0..=180.0).contains(&deg)) {
+                return loc.err(
+                    a.span(),
+                    field("angular_diameter"),
+                    format!(
+                        "{deg}: the full angular diameter is a number of degrees from 0 \
+                         (collimated) to 180"
+                    ),
+                );
+            }
+            deg.to_radians()
+        }
+    };
+    if let Some(t) = &def.texture {
+        return loc.err(
+            t.span(),
+            field("texture"),
+            "a light at infinity (`direction`) takes no texture: textures need a rectangle \
+             (`corners`) to map them on",
+        );
+    }
+    let radiance = radiance(loc, def, index)?;
+    let polarization = polarization(
+        loc,
+        def,
+        direction,
+        "perpendicular to the light's direction",
+        index,
+    )?;
+    Ok(DistantLight {
+        direction,
+        angular_diameter,
+        radiance,
+        polarization,
+    })
+}
+
+/// A light's `polarization`, its filter in the plane of unit `normal`
+/// (`plane` says which plane, for errors): a polarizer's axis is stored
+/// projected into that plane and normalized.
+fn polarization(
+    loc: &LocFns<'_>,
+    def: &LightDef,
+    normal: DVec3,
+    plane: &str,
+    index: usize,
+) -> Result<Polarization, SceneError> {
+    let field = |f: &str| format!("light[{index}].{f}");
+    let Some(p) = &def.polarization else {
+        return Ok(Polarization::Unpolarized);
+    };
+    Ok(match p.get_ref() {
+        PolarizationDef::Named(n) if n == "unpolarized" => Polarization::Unpolarized,
+        PolarizationDef::Named(n) => {
+            return loc.err(
+                p.span(),
+                field("polarization"),
+                format!("unknown polarization `{n}`: use \"unpolarized\", {{ linear = [x, y, z] }} or {{ calcite_plate = {{ keep = \"o\", axis = [x, y, z] }} }}"),
+            )
+        }
+        PolarizationDef::Filter(FilterDef::Linear(a)) => {
+            let a = finite3(*a).unwrap_or(DVec3::ZERO);
+            let in_plane = a - a.dot(normal) * normal;
+            if !(in_plane.length() > 1e-9 * a.length()) || a == DVec3::ZERO {
+                return loc.err(
+                    p.span(),
+                    field("polarization.linear"),
+                    format!("the polarizer's axis must be a finite vector with a component {plane}"),
+                );
+            }
+            Polarization::Linear {
+                axis: in_plane.normalize(),
+            }
+        }
+        PolarizationDef::Filter(FilterDef::CalcitePlate(plate)) => {
+            let keep = match plate.keep.as_str() {
+                "o" | "ordinary" => PlateWave::Ordinary,
+                "e" | "extraordinary" => PlateWave::Extraordinary,
+                other => {
+                    return loc.err(
+                        p.span(),
+                        field("polarization.calcite_plate.keep"),
+                        format!("`{other}`: keep \"o\" or \"e\""),
+                    )
+                }
+            };
+            let axis = finite3(plate.axis).and_then(|a| (a.length() > 0.0).then(|| a.normalize()));
+            let Some(axis) = axis else {
+                return loc.err(
+                    p.span(),
+                    field("polarization.calcite_plate.axis"),
+                    "must be a finite non-zero vector",
+                );
+            };
+            Polarization::CalcitePlate { keep, axis }
+        }
     })
 }
 

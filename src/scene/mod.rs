@@ -9,16 +9,20 @@ pub mod light;
 
 use crate::geometry::Mesh;
 use crate::material::{Dispersion, Material};
-use crate::render::approx::{BranchingArg, DispersionMode, PolarizationArg};
-use crate::render::camera::Camera;
-pub use crate::render::light::{Light, Polarization, Texture};
+use crate::optics::Jones;
+use crate::render::approx::{BranchingArg, CoherenceModel, DispersionMode, PolarizationArg};
+use crate::render::camera::{Camera, Projection};
+pub use crate::render::light::{DistantLight, Light, Polarization, Texture};
 use crate::render::settings::{
     resolve, Origin, Set, Settings, SettingsError, SettingsLayer, Wavelengths,
 };
 pub use crate::render::world::{
-    Object, RenderSettings, Scene, DEFAULT_MAX_DEPTH, DEFAULT_PRUNE, DEFAULT_WAVELENGTHS,
+    Object, RenderSettings, Scene, DEFAULT_MAX_DEPTH, DEFAULT_PRUNE, DEFAULT_UNIT_NM,
+    DEFAULT_WAVELENGTHS,
 };
-use file::{DispersionDef, DispersionModel, ScaleDef, SceneFile, TransformDef, WavelengthsDef};
+use file::{
+    AnalyzerDef, DispersionDef, DispersionModel, ScaleDef, SceneFile, TransformDef, WavelengthsDef,
+};
 use glam::{DAffine3, DMat3, DVec3};
 use std::fmt;
 use std::path::Path;
@@ -135,11 +139,57 @@ impl Scene {
         })?;
 
         // Camera.
-        let c = &def.camera;
+        let c = def.camera.get_ref();
         let eye = vec3(&loc, &c.eye, "camera.eye")?;
         let look_at = vec3(&loc, &c.look_at, "camera.look_at")?;
         let up = vec3(&loc, &c.up, "camera.up")?;
-        let fov = *c.fov.get_ref();
+        let orthographic = match &c.projection {
+            None => false,
+            Some(p) => match p.get_ref().trim() {
+                "pinhole" => false,
+                "orthographic" => true,
+                other => {
+                    return loc.err(
+                        p.span(),
+                        "camera.projection",
+                        format!(
+                            "unknown projection `{other}`: use \"pinhole\" (rays from the eye, \
+                             `fov`) or \"orthographic\" (parallel rays, `width`)"
+                        ),
+                    )
+                }
+            },
+        };
+        let fov = match (&c.fov, orthographic) {
+            (Some(f), _) => *f.get_ref(),
+            // An orthographic camera has no field of view: any valid one
+            // will do for the unused pinhole part.
+            (None, true) => 90.0,
+            // serde's own message, from before `fov` became optional.
+            (None, false) => return loc.err(def.camera.span(), "", "missing field `fov`"),
+        };
+        let width = match (&c.width, orthographic) {
+            (None, true) => {
+                return loc.err(
+                    def.camera.span(),
+                    "camera.width",
+                    "an orthographic camera needs `width`, the scene units across the image",
+                )
+            }
+            (Some(w), false) => {
+                return loc.err(
+                    w.span(),
+                    "camera.width",
+                    "is for an orthographic camera (projection = \"orthographic\"); a pinhole \
+                     camera's view is set by `fov`",
+                )
+            }
+            (w, _) => w.as_ref(),
+        };
+        let analyzer = match &c.analyzer {
+            None => None,
+            Some(a) => Some(analyzer(&loc, a, "camera.analyzer")?),
+        };
 
         // Render settings: the file's values as one layer, checked with
         // every other source's (render::settings).
@@ -194,6 +244,29 @@ impl Scene {
                 .0;
             layer.polarization = Some(Set::new(v, origin(b.span(), "render.polarization")));
         }
+        if let Some(b) = &r.coherence {
+            let v = b
+                .get_ref()
+                .parse::<CoherenceModel>()
+                .or_else(|e| loc.err(b.span(), "render.coherence", e))?;
+            layer.coherence = Some(Set::new(v, origin(b.span(), "render.coherence")));
+        }
+        let unit_nm = match &r.units {
+            None => DEFAULT_UNIT_NM,
+            Some(u) => unit_nm(u.get_ref()).map_or_else(
+                || {
+                    loc.err(
+                        u.span(),
+                        "render.units",
+                        format!(
+                            "unknown unit `{}`: one scene unit is nm, um (or µm), mm, cm or m",
+                            u.get_ref()
+                        ),
+                    )
+                },
+                Ok,
+            )?,
+        };
         if let Some(b) = &r.spectral {
             let v = b
                 .get_ref()
@@ -224,8 +297,14 @@ impl Scene {
             resolution: (w, h),
             render: settings,
         } = resolve(Settings::defaults(), &[&layer]).map_err(scene_error)?;
-        let camera = Camera::new(eye, look_at, up, fov, w, h)
-            .or_else(|m| loc.err(c.eye.span(), "camera", m))?;
+        let mut camera = Camera::new(eye, look_at, up, fov, w, h)
+            .or_else(|m| loc.err(c.eye.span(), "camera", m))?
+            .with_analyzer(analyzer);
+        if let Some(width) = width {
+            camera = camera
+                .orthographic(*width.get_ref())
+                .or_else(|m| loc.err(width.span(), "camera.width", m))?;
+        }
 
         // Objects.
         let mut objects = Vec::new();
@@ -295,12 +374,17 @@ impl Scene {
             });
         }
 
-        check_whole_scene(&loc, &objects, &places, camera.eye, c.eye.span())?;
+        let width_span = width.map(|w| w.span());
+        check_whole_scene(&loc, &objects, &places, &camera, c.eye.span(), width_span)?;
 
         // Lights.
         let mut lights = Vec::new();
+        let mut distant_lights = Vec::new();
         for (i, l) in def.lights.iter().enumerate() {
-            lights.push(light::resolve(&loc_fns(&loc), l, base, i)?);
+            match light::resolve(&loc_fns(&loc), l, base, i)? {
+                light::AnyLight::Area(l) => lights.push(l),
+                light::AnyLight::Distant(l) => distant_lights.push(l),
+            }
         }
         let background = match &def.background {
             None => 0.0,
@@ -316,7 +400,7 @@ impl Scene {
                 v
             }
         };
-        if lights.is_empty() && background == 0.0 {
+        if lights.is_empty() && distant_lights.is_empty() && background == 0.0 {
             return Err(SceneError {
                 file: file.to_string(),
                 line: None,
@@ -331,6 +415,8 @@ impl Scene {
             settings,
             objects,
             lights,
+            distant_lights,
+            unit_nm,
             background,
             source: text.to_string(),
         })
@@ -370,16 +456,19 @@ pub const MIN_RELATIVE_SIZE: f64 = 1e-3;
 pub const TOUCH_FRACTION: f64 = 1e-5;
 
 /// Checks of the whole scene once every object is placed: coordinates and
-/// sizes in the range f32 tracing handles, the camera outside every object,
-/// no two objects overlapping, touching or nested, no mesh intersecting
-/// itself.
+/// sizes in the range f32 tracing handles, the camera outside every object
+/// (its eye, and an orthographic camera's four image-plane corners, where
+/// its rays start; `width_span` is where its `width` is), no two objects
+/// overlapping, touching or nested, no mesh intersecting itself.
 fn check_whole_scene(
     loc: &Locator<'_>,
     objects: &[Object],
     places: &[ObjectPlace],
-    eye: DVec3,
+    camera: &Camera,
     eye_span: std::ops::Range<usize>,
+    width_span: Option<std::ops::Range<usize>>,
 ) -> Result<(), SceneError> {
+    let eye = camera.eye;
     use crate::geometry::overlap;
     let bounds: Vec<(DVec3, DVec3)> = objects.iter().map(|o| o.mesh.bounds()).collect();
     let reach = |(lo, hi): (DVec3, DVec3)| lo.abs().max(hi.abs()).max_element();
@@ -471,6 +560,36 @@ fn check_whole_scene(
             );
         }
     }
+    if let (Projection::Orthographic { .. }, Some(width_span)) = (camera.projection, width_span) {
+        let (w, h) = (camera.width as f64, camera.height as f64);
+        for (fx, fy) in [(0.0, 0.0), (w, 0.0), (0.0, h), (w, h)] {
+            let corner = camera.ray(fx, fy).0;
+            if !(corner.abs().max_element() <= MAX_COORDINATE) {
+                return loc.err(
+                    width_span,
+                    "camera.width",
+                    format!(
+                        "the image plane's corner {corner} is beyond {MAX_COORDINATE:e} units \
+                         from the origin (spar traces in single precision): narrow the image"
+                    ),
+                );
+            }
+            for (i, o) in objects.iter().enumerate() {
+                if overlap::point_inside(&o.mesh, corner) {
+                    return loc.err(
+                        width_span,
+                        "camera.width",
+                        format!(
+                            "the orthographic camera's image-plane corner {corner} is inside {} \
+                             (or on its surface): camera rays from there would start inside the \
+                             stone (move the eye back or narrow the image)",
+                            describe(i)
+                        ),
+                    );
+                }
+            }
+        }
+    }
     let tol = TOUCH_FRACTION * extent;
     for i in 0..objects.len() {
         for j in i + 1..objects.len() {
@@ -532,6 +651,59 @@ impl LocFns<'_> {
 
 fn loc_fns<'a>(loc: &'a Locator<'a>) -> LocFns<'a> {
     LocFns { loc }
+}
+
+/// Nanometres in one scene unit named `name` (`[render] units`).
+pub fn unit_nm(name: &str) -> Option<f64> {
+    Some(match name.trim() {
+        "nm" => 1.0,
+        "um" | "µm" | "μm" => 1e3,
+        "mm" => 1e6,
+        "cm" => 1e7,
+        "m" => 1e9,
+        _ => return None,
+    })
+}
+
+/// A camera's analyzer as one Jones matrix in the film's frame (x image
+/// right, y image up): each element of the chain in the order the light
+/// meets it, so `{ retarder = R, then = { linear = P } }` is `P · R`.
+fn analyzer(loc: &Locator<'_>, a: &Spanned<AnalyzerDef>, field: &str) -> Result<Jones, SceneError> {
+    let d = a.get_ref();
+    let angle = |v: &Spanned<f64>, f: &str| -> Result<f64, SceneError> {
+        let deg = *v.get_ref();
+        if !deg.is_finite() {
+            return loc.err(
+                v.span(),
+                format!("{field}.{f}"),
+                format!("{deg}: must be a finite number of degrees"),
+            );
+        }
+        Ok(deg.to_radians())
+    };
+    let element = match (&d.linear, &d.retarder) {
+        (Some(theta), None) => Jones::linear_polarizer(angle(theta, "linear")?),
+        (None, Some(r)) => {
+            let rd = r.get_ref();
+            Jones::retarder(
+                angle(&rd.fast_axis, "retarder.fast_axis")?,
+                angle(&rd.retardance, "retarder.retardance")?,
+            )
+        }
+        _ => {
+            return loc.err(
+                a.span(),
+                field,
+                "give exactly one of `linear = DEG` (a polarizer, its axis at DEG from image \
+                 right toward image up) and `retarder = { fast_axis = DEG, retardance = DEG }`, \
+                 then optionally `then = { … }`, the next element the light meets",
+            )
+        }
+    };
+    match &d.then {
+        None => Ok(element),
+        Some(next) => Ok(analyzer(loc, next, &format!("{field}.then"))?.product(&element)),
+    }
 }
 
 pub(crate) fn finite3(v: [f64; 3]) -> Option<DVec3> {

@@ -1,7 +1,9 @@
 //! Command-line details: `spar cut` refuses an output it cannot or should
 //! not write (exit status 2, the path named, nothing written); `--region`'s
 //! help shows the form its parser takes; negative numbers reach each
-//! flag's own check instead of clap's "use '-- -1'" hint.
+//! flag's own check instead of clap's "use '-- -1'" hint; `--coherence`
+//! overrides the scene's, is named in the render's settings and is passed
+//! on by `spar plan`.
 
 use crate::support::run;
 use std::path::Path;
@@ -224,4 +226,64 @@ fn negative_numbers_reach_the_flags_own_checks() {
         ],
         &["-500"],
     );
+}
+
+/// `spar:settings` of an image spar wrote.
+fn settings(path: &Path) -> String {
+    spar::image::read(path).unwrap().metadata()["spar:settings"].clone()
+}
+
+#[test]
+fn coherence_flag_overrides_the_scene_and_is_part_of_the_identity() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("scene.toml"), SCENE).unwrap();
+    let incoherent = SCENE.replace(
+        "wavelengths = 8",
+        "wavelengths = 8\ncoherence = \"incoherent\"",
+    );
+    std::fs::write(d.join("incoherent.toml"), incoherent).unwrap();
+    let render = |scene: &str, flags: &[&str], out: &str| {
+        let mut args = vec!["render", scene, "-q", "-o", out];
+        args.extend_from_slice(flags);
+        let (code, o, e) = spar(d, &args);
+        assert_eq!(code, 0, "{args:?}: {o}{e}");
+        settings(&d.join(out))
+    };
+    let s = render("scene.toml", &[], "a.png");
+    assert!(s.ends_with(" coherence=physical"), "{s}");
+    let s = render("scene.toml", &["--coherence", "incoherent"], "b.png");
+    assert!(s.ends_with(" coherence=incoherent"), "{s}");
+    let s = render("incoherent.toml", &[], "c.png");
+    assert!(s.ends_with(" coherence=incoherent"), "{s}");
+    let s = render("incoherent.toml", &["--coherence", "physical"], "d.png");
+    assert!(s.ends_with(" coherence=physical"), "{s}");
+    refused(
+        d,
+        &[
+            "render",
+            "scene.toml",
+            "--coherence",
+            "partial",
+            "-o",
+            "e.png",
+        ],
+        &["--coherence", "partial", "incoherent"],
+    );
+    assert!(!d.join("e.png").exists());
+    // A job script passes the flag on to every tile's render.
+    let (code, script, err) = spar(
+        d,
+        &[
+            "plan",
+            "scene.toml",
+            "--tiles",
+            "2",
+            "--slurm",
+            "--coherence",
+            "incoherent",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(script.contains("--coherence incoherent"), "{script}");
 }

@@ -122,6 +122,81 @@ fn cases() -> Vec<(&'static str, &'static str, Vec<&'static str>)> {
             "resolution = [8, 8]\n\n[render]\ndispersion = 3",
             vec!["scene.toml:9:", "render.dispersion", "bands:K"],
         ),
+        (
+            "resolution = [8, 8]",
+            "resolution = [8, 8]\n\n[render]\ncoherence = \"partial\"",
+            vec!["scene.toml:9:", "render.coherence", "incoherent"],
+        ),
+        (
+            "resolution = [8, 8]",
+            "resolution = [8, 8]\n\n[render]\nunits = \"furlong\"",
+            vec!["scene.toml:9:", "render.units", "nm, um (or µm), mm, cm or m"],
+        ),
+        (
+            "resolution = [8, 8]",
+            "resolution = [8, 8]\nprojection = \"fisheye\"",
+            vec!["scene.toml:7:", "camera.projection", "orthographic"],
+        ),
+        (
+            "resolution = [8, 8]",
+            "resolution = [8, 8]\nprojection = \"orthographic\"",
+            vec!["scene.toml:2:", "camera.width", "needs `width`"],
+        ),
+        (
+            "resolution = [8, 8]",
+            "resolution = [8, 8]\nprojection = \"orthographic\"\nwidth = -1.0",
+            vec!["scene.toml:8:", "camera.width", "> 0"],
+        ),
+        (
+            "resolution = [8, 8]",
+            "resolution = [8, 8]\nwidth = 2.0",
+            vec!["scene.toml:7:", "camera.width", "orthographic"],
+        ),
+        (
+            "fov = 30.0\n",
+            "",
+            vec!["scene.toml:2:", "missing field `fov`"],
+        ),
+        (
+            "resolution = [8, 8]",
+            "resolution = [8, 8]\nanalyzer = { linear = nan }",
+            vec!["scene.toml:7:", "camera.analyzer.linear", "finite"],
+        ),
+        (
+            "resolution = [8, 8]",
+            "resolution = [8, 8]\nanalyzer = { retarder = { fast_axis = 0.0, retardance = 90.0 }, then = { linear = inf } }",
+            vec!["scene.toml:7:", "camera.analyzer.then.linear", "finite"],
+        ),
+        (
+            "resolution = [8, 8]",
+            "resolution = [8, 8]\nanalyzer = { circular = 1.0 }",
+            vec!["scene.toml:7:", "circular"],
+        ),
+        (
+            "[[light]]",
+            "[[light]]\ndirection = [0.0, 0.0, -1.0]",
+            vec!["scene.toml:12:", "light[0]", "exactly one of `corners`"],
+        ),
+        (
+            "corners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, -1.5]]",
+            "direction = [0.0, 0.0, 0.0]",
+            vec!["scene.toml:13:", "light[0].direction", "non-zero"],
+        ),
+        (
+            "corners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, -1.5]]",
+            "direction = [0.0, 0.0, -1.0]\nangular_diameter = 200.0",
+            vec!["scene.toml:14:", "light[0].angular_diameter", "180"],
+        ),
+        (
+            "corners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, -1.5]]",
+            "direction = [0.0, 0.0, -1.0]\ntexture = \"builtin:checker\"",
+            vec!["scene.toml:14:", "light[0].texture", "corners"],
+        ),
+        (
+            "corners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, -1.5]]",
+            "direction = [0.0, 0.0, -1.0]\npolarization = { linear = [0.0, 0.0, 1.0] }",
+            vec!["scene.toml:14:", "light[0].polarization.linear", "perpendicular"],
+        ),
     ]
 }
 
@@ -177,6 +252,7 @@ fn bad_flags_exit_2() {
         vec!["render", "--spectral", "hero:0"],
         vec!["render", "--polarization", "half"],
         vec!["render", "--dispersion", "maybe"],
+        vec!["render", "--coherence", "partial"],
         vec!["render", "--quality", "best"],
         vec!["render", "-o", "no/such/dir/x.png"],
         vec!["render", "no-such-scene.toml"],

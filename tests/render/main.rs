@@ -1,6 +1,7 @@
 //! Rendering (`spar::render`, `spar::scene`): the white furnace, physics
 //! check scenes on every backend, hard cases, lost light, the spectral and
-//! branching models, sampling strategies, scene vectors and fuzzed scenes.
+//! branching models, sampling strategies, scene vectors, the scene keys of
+//! coherence, units, lights at infinity and the camera, and fuzzed scenes.
 //! One test binary; each file is a module.
 
 #[path = "../support/mod.rs"]
@@ -13,4 +14,5 @@ mod render_lost_light;
 mod render_model_only_needed;
 mod render_physics;
 mod render_strategies;
+mod scene_features;
 mod scene_vectors;
