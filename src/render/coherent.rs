@@ -271,7 +271,7 @@ impl Tracer<'_> {
         stats.nodes += 1;
         // The hit on the facet's plane along this path's own line from its
         // anchor: the traced ray started `epsilon` off the surface, which
-        // would shift the phase by up to ε·|t|/λ (tenths of a wave).
+        // would shift the phase by up to ε·|t|²/k_N (tenths of a wave).
         let traced = ray.at(hit.t);
         let denom = p.dir.dot(normal);
         let s = (traced - p.anchor).dot(normal) / denom;
@@ -343,7 +343,10 @@ impl Tracer<'_> {
                 a = a.scaled(c(weight.sqrt()));
             }
             let child = Path {
-                origin: point + self.epsilon * offset,
+                // Traced from the backend's hit, as the incoherent tree is
+                // (so both models follow the same rays); phases from the
+                // exact point.
+                origin: traced + self.epsilon * offset,
                 anchor: point,
                 dir: -f.wave.ray,
                 region,

@@ -260,8 +260,7 @@ impl DistantLight {
     #[inline]
     pub fn cos_half_angle(&self) -> f64 {
         (0.5 * self.angular_diameter)
-            .max(COLLIMATED_HALF_ANGLE)
-            .min(std::f64::consts::PI)
+            .clamp(COLLIMATED_HALF_ANGLE, std::f64::consts::PI)
             .cos()
     }
 
