@@ -519,7 +519,7 @@ fn print_summary(
 ) {
     let secs = render_time.as_secs_f64();
     eprintln!(
-        "{}x{} px, region {}, samples {}, {} wavelength(s): accel {} {:.2} s, render {:.2} s, {} rays ({:.2} M rays/s), {} nodes, {} pruned, {} cut by depth, {} lost{}",
+        "{}x{} px, region {}, samples {}, {} wavelength(s): accel {} {:.2} s, render {:.2} s, {} rays ({:.2} M rays/s), {} nodes, {} pruned, {} cut by depth, {} coherent, {} lost{}",
         job.scene.camera.width,
         job.scene.camera.height,
         job.spec.region,
@@ -533,6 +533,7 @@ fn print_summary(
         stats.nodes,
         stats.pruned,
         stats.depth_cut,
+        stats.coherent,
         stats.lost,
         if stats.lost > 0 {
             format!(" ({})", stats.lost_breakdown())

@@ -46,8 +46,10 @@ pub const SAME_DIRECTION: f64 = 1e-9;
 /// Which light a path reached.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 enum Source {
-    /// The uniform background: spatially incoherent from every direction
-    /// (each of its leaves adds as an intensity).
+    /// The uniform background, or the environment
+    /// ([`crate::render::world::Scene::environment`]) where the scene has
+    /// one: light at infinity from every direction, each direction a
+    /// plane wave of its own.
     Background,
     /// Area light `i` of [`crate::render::world::Scene::lights`].
     Area(u32),
@@ -196,7 +198,7 @@ impl Tracer<'_> {
                 a: Jones::identity(2),
             };
             self.walk(&root, &basis, &batch[0], key, &mut leaves, stats);
-            self.sum_leaves(&leaves, batch, out);
+            stats.coherent += self.sum_leaves(&leaves, batch, out);
         });
     }
 
@@ -407,8 +409,8 @@ impl Tracer<'_> {
                 (0.0, 0.0),
                 0.0,
             )
-        } else if scene.background > 0.0 {
-            (Source::Background, DVec3::X, (0.0, 0.0), 0.0)
+        } else if scene.background > 0.0 || scene.environment.is_some() {
+            (Source::Background, DVec3::Z, (0.0, 0.0), 0.0)
         } else {
             return true;
         };
@@ -427,8 +429,10 @@ impl Tracer<'_> {
     }
 
     /// The camera's coherence matrix at each wavelength of `batch` from a
-    /// sample's leaves (module docs).
-    fn sum_leaves(&self, leaves: &[Leaf], batch: &[WavelengthMedia], out: &mut [Coherence]) {
+    /// sample's leaves (module docs); returns how many leaves joined a
+    /// group of two or more.
+    fn sum_leaves(&self, leaves: &[Leaf], batch: &[WavelengthMedia], out: &mut [Coherence]) -> u64 {
+        let mut coherent = 0;
         let zero = [[Complex64::new(0.0, 0.0); 2]; 2];
         let mut acc = vec![zero; batch.len()];
         // Sort by source, then by the first direction component, and sweep:
@@ -449,7 +453,7 @@ impl Tracer<'_> {
             members.clear();
             members.push(i);
             group_of[i as usize] = i;
-            if li.source != Source::Background {
+            {
                 for &j in &order[pos + 1..] {
                     let lj = &leaves[j as usize];
                     if lj.source != li.source || lj.k.x - li.k.x > SAME_DIRECTION {
@@ -463,11 +467,15 @@ impl Tracer<'_> {
                     }
                 }
             }
+            if members.len() > 1 {
+                coherent += members.len() as u64;
+            }
             self.add_group(leaves, &members, batch, &mut acc);
         }
         for (o, a) in out.iter_mut().zip(&acc) {
             *o = Coherence::from_matrix(*a);
         }
+        coherent
     }
 
     /// Adds one group's `Σ γ_ij e^{i(φ_i − φ_j)} √(l_i l_j) M_i J M_jᴴ` at
@@ -499,7 +507,10 @@ impl Tracer<'_> {
         let j_l = state.matrix();
         let radiance = |leaf: &Leaf, lambda: f64| -> f64 {
             match leaf.source {
-                Source::Background => scene.background * crate::spectrum::cie::d65(lambda),
+                Source::Background => match &scene.environment {
+                    Some(env) => env.spectral_radiance(leaf.k, lambda),
+                    None => scene.background * crate::spectrum::cie::d65(lambda),
+                },
                 Source::Area(i) => {
                     scene.lights[i as usize].spectral_radiance(leaf.st.0, leaf.st.1, lambda)
                 }

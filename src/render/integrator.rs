@@ -77,6 +77,10 @@ pub struct Stats {
     pub lost: u64,
     /// The lost rays by what the integrator saw.
     pub causes: LostCauses,
+    /// Paths that added as amplitudes with at least one other path of
+    /// their camera sample (the physical model's coherent groups,
+    /// docs/physics.md §9.3); 0 in the incoherent model.
+    pub coherent: u64,
 }
 
 /// Lost rays by cause. Rays stopped by the depth limit are not lost light
@@ -120,6 +124,7 @@ impl std::ops::AddAssign for Stats {
         self.depth_cut += o.depth_cut;
         self.lost += o.lost;
         self.causes += o.causes;
+        self.coherent += o.coherent;
     }
 }
 
@@ -546,6 +551,12 @@ impl<'a> Tracer<'a> {
                         } else {
                             j
                         };
+                    }
+                    return;
+                }
+                if let Some(env) = &self.scene.environment {
+                    for (o, m) in out.iter_mut().zip(batch) {
+                        *o = Coherence::unpolarized(env.spectral_radiance(-q.dir, m.lambda_nm));
                     }
                     return;
                 }

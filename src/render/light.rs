@@ -290,3 +290,81 @@ impl DistantLight {
         filtered(self.polarization, self.direction, fallback, 1.0, k, x, y)
     }
 }
+
+/// A light at infinity in every direction (`[[light]] environment`): a
+/// uniform radiance, or a latitude–longitude map of it, unpolarized. Each
+/// direction is a plane wave of its own (docs/physics.md §9.3): paths that
+/// leave for it in the same direction are coherent.
+///
+/// The map's axes, for the direction ω the light comes from (ω = −k for
+/// light travelling along k), world +z up: row 0 is the zenith (+z), the
+/// last row the nadir, rows uniform in the polar angle θ = acos ω_z;
+/// column 0 starts at azimuth φ = atan2(ω_y, ω_x) = −180° (−x) and
+/// columns run with increasing φ (through −y, +x, +y).
+#[derive(Clone, Debug)]
+pub struct Environment {
+    /// Radiance scale (× D65 × the map's spectrum).
+    pub radiance: f64,
+    pub map: Option<EnvironmentMap>,
+}
+
+/// The texels of an environment map: each texel's linear RGB divided by
+/// its largest component as a smooth spectrum in [0, 1] (Jakob & Hanika
+/// 2019), times that component (`scale`), so high-dynamic-range maps keep
+/// their brightness.
+#[derive(Clone, Debug)]
+pub struct EnvironmentMap {
+    pub texture: Texture,
+    /// Per texel, row-major.
+    pub scale: Vec<f64>,
+}
+
+impl EnvironmentMap {
+    /// A map from linear RGB texels (row-major, row 0 the zenith); every
+    /// value must be finite and ≥ 0.
+    pub fn from_linear_rgb(width: usize, height: usize, rgb: &[[f64; 3]]) -> EnvironmentMap {
+        assert_eq!(rgb.len(), width * height);
+        let scale: Vec<f64> = rgb
+            .iter()
+            .map(|c| c[0].max(c[1]).max(c[2]).max(0.0))
+            .collect();
+        let normalized: Vec<[f64; 3]> = rgb
+            .iter()
+            .zip(&scale)
+            .map(|(c, &s)| if s > 0.0 { c.map(|v| v / s) } else { [0.0; 3] })
+            .collect();
+        EnvironmentMap {
+            texture: Texture::from_linear_rgb(width, height, &normalized),
+            scale,
+        }
+    }
+
+    /// The texel that light travelling along unit `k` comes from.
+    #[inline]
+    pub fn texel(&self, k: DVec3) -> usize {
+        let w = -k;
+        let theta = w.z.clamp(-1.0, 1.0).acos();
+        let phi = w.y.atan2(w.x);
+        let (width, height) = (self.texture.width, self.texture.height);
+        let x = (((phi + std::f64::consts::PI) / std::f64::consts::TAU * width as f64) as usize)
+            .min(width - 1);
+        let y = ((theta / std::f64::consts::PI * height as f64) as usize).min(height - 1);
+        y * width + x
+    }
+}
+
+impl Environment {
+    /// Spectral radiance (in units of D65) of the light travelling along
+    /// unit `k`.
+    #[inline]
+    pub fn spectral_radiance(&self, k: DVec3, lambda_nm: f64) -> f64 {
+        let base = self.radiance * cie::d65(lambda_nm);
+        match &self.map {
+            None => base,
+            Some(m) => {
+                let i = m.texel(k);
+                base * m.scale[i] * m.texture.texels[i].eval(lambda_nm)
+            }
+        }
+    }
+}

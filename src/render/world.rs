@@ -4,7 +4,7 @@
 
 use super::approx::Approximations;
 use super::camera::Camera;
-use super::light::{DistantLight, Light};
+use super::light::{DistantLight, Environment, Light};
 use crate::geometry::Mesh;
 use crate::material::Material;
 use crate::spectrum::WavelengthSet;
@@ -57,6 +57,9 @@ pub struct Scene {
     pub lights: Vec<Light>,
     /// Lights at infinity.
     pub distant_lights: Vec<DistantLight>,
+    /// Light from every direction at infinity (replaces the background
+    /// where a ray escapes; a scene has at most one).
+    pub environment: Option<Environment>,
     /// The length of one scene unit in nanometres (`[render] units`;
     /// millimetres by default): propagation phases need it.
     pub unit_nm: f64,

@@ -434,3 +434,153 @@ fn a_thin_film_reflects_the_airy_reflectance() {
     let airy = 0.5 * (airy_r(n, d, theta0, 550.0, true) + airy_r(n, d, theta0, 550.0, false));
     assert!((r - airy).abs() <= 1e-3, "rendered R {r} vs Airy {airy}");
 }
+
+/// J₁ by its power series Σ (−1)^m (x/2)^{2m+1} / (m! (m+1)!) (exact to
+/// rounding for the arguments here, |x| < 10).
+fn bessel_j1(x: f64) -> f64 {
+    let (mut term, mut sum) = (x / 2.0, 0.0);
+    for m in 0..60 {
+        sum += term;
+        term *= -(x / 2.0).powi(2) / ((m + 1) as f64 * (m + 2) as f64);
+    }
+    sum
+}
+
+/// A calcite plate 1 mm thick, optic axis at 45° to its normal in the
+/// x–z plane, seen from above through an orthographic camera; below it,
+/// `light` (a TOML `[[light]]` table). Internal reflections are pruned
+/// away (prune 1e-2), leaving one o and one e path per camera ray.
+fn walk_off_plate(light: &str) -> String {
+    format!(
+        r#"
+[camera]
+projection = "orthographic"
+width = 0.02
+eye = [0.0, 0.0, 10.0]
+look_at = [0.0, 0.0, 0.0]
+up = [0.0, 1.0, 0.0]
+resolution = [4, 4]
+[render]
+units = "mm"
+wavelengths = [580.0]
+prune = 1e-2
+[[object]]
+mesh = "plate.obj"
+medium = "calcite"
+optic_axis = [0.7071067811865476, 0.0, 0.7071067811865476]
+{light}
+"#
+    )
+}
+
+/// |J_xy| / √(J_xx J_yy) of the film's mean Stokes vector: the degree of
+/// coherence between the x and y components.
+fn xy_coherence(s: [f64; 4]) -> f64 {
+    let (jxx, jyy) = (0.5 * (s[0] + s[1]), 0.5 * (s[0] - s[1]));
+    (0.5 * (s[2] * s[2] + s[3] * s[3]).sqrt()) / (jxx * jyy).sqrt()
+}
+
+#[test]
+fn walked_off_o_and_e_waves_are_as_coherent_as_the_light_is_between_them() {
+    let plate = crate::support::render::box_obj([-2.0, -2.0, -0.5], [2.0, 2.0, 0.5]);
+    let files = [("plate.obj", plate)];
+    // The o wave leaves the plate polarized along y, the e wave along x
+    // (its field lies in the plane of the axis), δ apart: the walk-off of
+    // a wave normal at α = 45° to the axis, tan ρ = (n_o² − n_e²) tan α /
+    // (n_e² + n_o² tan² α), over the 1 mm plate. With light polarized at
+    // 45° both carry light; their cross term |J_xy| is γ √(J_xx J_yy).
+    let a = 0.5; // the area light's side, mm
+    let distance = 100.0; // from the plate's lower face, mm
+    let area = format!(
+        "[[light]]\ncorners = [[-0.25, -0.25, -100.5], [0.25, -0.25, -100.5], [0.25, 0.25, -100.5], \
+         [-0.25, 0.25, -100.5]]\nradiance = 1.0\npolarization = {{ linear = [1.0, 1.0, 0.0] }}\n"
+    );
+    let (scene, _d) = crate::support::render::scene(&walk_off_plate(&area), &files);
+    let (n_o, n_e) = indices(&scene, 0, 580.0);
+    let tan_rho = (n_o * n_o - n_e * n_e) / (n_e * n_e + n_o * n_o);
+    let delta_nm = 1.0 * tan_rho * 1e6;
+    // van Cittert–Zernike for the light's disc of equal solid angle Ω =
+    // a²/D² seen from the plate: θ = 2√(Ω/π), γ = 2J₁(v)/v, v = πθδ/λ.
+    let theta = 2.0 * (a * a / (distance * distance) / PI).sqrt();
+    let v = PI * theta * delta_nm / 580.0;
+    let gamma = 2.0 * bessel_j1(v) / v;
+    assert!(
+        gamma > 0.05 && gamma < 0.9,
+        "the case tests partial coherence: γ = {gamma}"
+    );
+    let (film, stats) = render_at(&scene, &[580.0]);
+    assert_eq!(stats.lost, 0);
+    assert!(stats.coherent > 0);
+    let got = xy_coherence(centre_stokes(&film, 0));
+    assert!(
+        (got - gamma).abs() <= 2e-3,
+        "degree of coherence {got} vs van Cittert–Zernike {gamma} (v = {v})"
+    );
+
+    // A collimated light: one plane wave, fully coherent whatever δ.
+    let collimated = "[[light]]\ndirection = [0.0, 0.0, 1.0]\nradiance = 1.0\n\
+                      polarization = { linear = [1.0, 1.0, 0.0] }\n";
+    let (scene, _d) = crate::support::render::scene(&walk_off_plate(collimated), &files);
+    let (film, _) = render_at(&scene, &[580.0]);
+    let got = xy_coherence(centre_stokes(&film, 0));
+    // (The film stores f32 sums: 1e-6.)
+    assert!((got - 1.0).abs() <= 1e-6, "collimated: {got}");
+
+    // The incoherent model: no cross term at all.
+    let (mut scene, _d) = crate::support::render::scene(&walk_off_plate(collimated), &files);
+    scene.settings.approx.strategy.coherence = spar::render::approx::CoherenceModel::Incoherent;
+    let (film, _) = render_at(&scene, &[580.0]);
+    let got = xy_coherence(centre_stokes(&film, 0));
+    assert!(got <= 1e-6, "incoherent: {got}");
+}
+
+#[test]
+fn the_seed_scenes_look_the_same_in_both_models_but_where_paths_coincide() {
+    // The seed scenes' light is a large rectangle under the gem: its
+    // coherence area is about a wavelength across, while o and e leave a
+    // gem in different directions or far apart. The models then differ
+    // only in pixels where some paths of a sample coincide (Stats::coherent
+    // counts them), and there by the cross terms alone.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    for name in ["calcite-polarized.toml", "glass-polarized.toml"] {
+        let mut scene = Scene::load(&root.join(name)).unwrap();
+        scene.camera = scene.camera.clone().with_resolution(40, 40);
+        let lambdas = [450.0, 550.0, 650.0];
+        let (physical, stats) = render_at(&scene, &lambdas);
+        scene.settings.approx.strategy.coherence = spar::render::approx::CoherenceModel::Incoherent;
+        let (incoherent, _) = render_at(&scene, &lambdas);
+        let (mut differ, mut total, mut sum_diff, mut sum) = (0u64, 0u64, 0.0, 0.0);
+        for y in 0..40 {
+            for x in 0..40 {
+                for i in 0..lambdas.len() {
+                    let (a, b) = (physical.stokes(x, y, i), incoherent.stokes(x, y, i));
+                    total += 1;
+                    let d = (0..4).map(|c| (a[c] - b[c]).abs()).fold(0.0, f64::max);
+                    if d > 1e-6 * (1.0 + b[0]) {
+                        differ += 1;
+                    }
+                    sum_diff += (a[0] - b[0]).abs();
+                    sum += b[0];
+                }
+            }
+        }
+        eprintln!(
+            "{name}: {differ} of {total} pixel-wavelengths differ, mean |ΔS0|/S0 {:.2e}, {} coherent paths",
+            sum_diff / sum,
+            stats.coherent
+        );
+        assert!(
+            differ as f64 <= 0.01 * total as f64,
+            "{name}: {differ} of {total} differ"
+        );
+        assert!(
+            differ == 0 || stats.coherent > 0,
+            "{name}: differences without coherent paths"
+        );
+        assert!(
+            sum_diff <= 1e-3 * sum,
+            "{name}: mean difference {}",
+            sum_diff / sum
+        );
+    }
+}
