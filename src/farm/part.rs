@@ -13,7 +13,7 @@
 //! | `spar:format` | `spar-raw-1` |
 //! | `spar:version` | the spar that rendered it |
 //! | `spar:scene` | the scene file as named on the command line (not compared) |
-//! | `spar:scene_hash` | hash of everything rendered: camera, meshes, media, lights, textures, lights at infinity, scene unit |
+//! | `spar:scene_hash` | hash of everything rendered: camera, meshes, media, lights, textures, lights at infinity, environment, scene unit |
 //! | `spar:settings` | resolution, samples, depth, pruning, seed, wavelengths, accelerator, ISA |
 //! | `spar:resolution` | `WxH` of the whole image |
 //! | `spar:region` | `x0,x1,y0,y1`: the pixels held (ends exclusive) |
@@ -56,10 +56,10 @@ impl std::fmt::Write for Fnv {
 
 /// A hash of what a scene renders: the camera (with its projection and
 /// analyzer), every object's mesh and medium, the lights with their
-/// textures, the lights at infinity, the background and the length of a
-/// scene unit — not the scene file's text or where it lives, so a scene
-/// moved to another directory (another machine's mount point) keeps its
-/// hash. Floats enter through `Debug`, which writes each one so that it
+/// textures, the lights at infinity, the environment (with its map), the
+/// background and the length of a scene unit — not the scene file's text
+/// or where it lives, so a scene moved to another directory (another
+/// machine's mount point) keeps its hash. Floats enter through `Debug`, which writes each one so that it
 /// reads back exactly.
 pub fn scene_hash(scene: &Scene) -> String {
     let mut h = Fnv(0xcbf2_9ce4_8422_2325);
@@ -73,6 +73,11 @@ pub fn scene_hash(scene: &Scene) -> String {
         scene.distant_lights,
         scene.unit_nm
     );
+    // Appended only when there is one, so scenes without an environment
+    // keep the hash they had before environments existed.
+    if let Some(e) = &scene.environment {
+        let _ = write!(h, "|{e:?}");
+    }
     format!("{:016x}", h.0)
 }
 

@@ -47,6 +47,10 @@
 //! radiance = 1.0
 //! polarization = { linear = [1, 0, 0] }   # axis projected normal to direction
 //!
+//! [[light]]                        # light from every direction (at most one; replaces [background])
+//! environment = "sky.exr"          # a latitude–longitude image (row 0 the zenith +z), or "uniform"
+//! radiance = 1.0                   # scale: radiance × map × D65
+//!
 //! [background]
 //! radiance = 0.0
 //! ```
@@ -468,8 +472,8 @@ fn default_radiance() -> Spanned<f64> {
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
 pub struct LightDef {
-    /// A rectangle's four corners; exactly one of `corners` and
-    /// `direction` is given.
+    /// A rectangle's four corners; exactly one of `corners`, `direction`
+    /// and `environment` is given.
     #[serde(default, deserialize_with = "corners")]
     pub corners: Option<Spanned<[V3; 4]>>,
     /// A light at infinity: the direction its light travels.
@@ -478,6 +482,10 @@ pub struct LightDef {
     /// A light at infinity's full angular diameter, degrees (default 0:
     /// collimated).
     pub angular_diameter: Option<Spanned<f64>>,
+    /// Light from every direction at infinity: `"uniform"`, or a
+    /// latitude–longitude image (a path relative to the scene file, or
+    /// `builtin:NAME`).
+    pub environment: Option<Spanned<String>>,
     #[serde(default = "default_radiance")]
     pub radiance: Spanned<f64>,
     pub texture: Option<Spanned<String>>,

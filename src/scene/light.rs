@@ -1,23 +1,29 @@
 //! `[[light]]` tables: validated into the renderer's rectangular area
-//! lights and lights at infinity ([`crate::render::light`]), textures
-//! loaded from image files or built in.
+//! lights, lights at infinity and environments
+//! ([`crate::render::light`]), textures and environment maps loaded from
+//! image files or built in.
 
 use super::file::{FilterDef, LightDef, PolarizationDef, V3};
 use super::{finite3, LocFns, SceneError};
-use crate::render::light::{DistantLight, Light, PlateWave, Polarization, Texture};
+use crate::render::light::{
+    DistantLight, Environment, EnvironmentMap, Light, PlateWave, Polarization, Texture,
+};
 use glam::DVec3;
 use std::path::Path;
 use toml::Spanned;
 
-/// A validated `[[light]]` table: a rectangle or a light at infinity.
+/// A validated `[[light]]` table: a rectangle, a light at infinity or
+/// an environment.
 #[derive(Debug)]
 pub(crate) enum AnyLight {
     Area(Light),
     Distant(DistantLight),
+    Environment(Environment),
 }
 
-/// Validates a `[[light]]` table: exactly one of `corners` (a rectangle)
-/// and `direction` (a light at infinity).
+/// Validates a `[[light]]` table: exactly one of `corners` (a rectangle),
+/// `direction` (a light at infinity) and `environment` (light from every
+/// direction).
 pub(crate) fn resolve(
     loc: &LocFns<'_>,
     l: &Spanned<LightDef>,
@@ -25,18 +31,37 @@ pub(crate) fn resolve(
     index: usize,
 ) -> Result<AnyLight, SceneError> {
     let def = l.get_ref();
-    match (&def.corners, &def.direction) {
-        (Some(corners), None) => area(loc, def, corners, base, index).map(AnyLight::Area),
-        (None, Some(direction)) => distant(loc, def, direction, index).map(AnyLight::Distant),
-        (c, _) => loc.err(
-            l.span(),
-            format!("light[{index}]"),
-            format!(
-                "give exactly one of `corners` (a rectangle) and `direction` (a light at \
-                 infinity, the direction its light travels); this light has {}",
-                if c.is_some() { "both" } else { "neither" }
-            ),
-        ),
+    match (&def.corners, &def.direction, &def.environment) {
+        (Some(corners), None, None) => area(loc, def, corners, base, index).map(AnyLight::Area),
+        (None, Some(direction), None) => distant(loc, def, direction, index).map(AnyLight::Distant),
+        (None, None, Some(env)) => {
+            environment(loc, def, env, base, index).map(AnyLight::Environment)
+        }
+        (c, d, e) => {
+            let given: Vec<&str> = [
+                (c.is_some(), "`corners`"),
+                (d.is_some(), "`direction`"),
+                (e.is_some(), "`environment`"),
+            ]
+            .into_iter()
+            .filter_map(|(has, name)| has.then_some(name))
+            .collect();
+            loc.err(
+                l.span(),
+                format!("light[{index}]"),
+                format!(
+                    "give exactly one of `corners` (a rectangle), `direction` (a light at \
+                     infinity, the direction its light travels) and `environment` (light from \
+                     every direction: \"uniform\" or a latitude–longitude image); this light \
+                     has {}",
+                    match given.as_slice() {
+                        [] => "none of them".to_string(),
+                        [a, b] => format!("both {a} and {b}"),
+                        _ => "all three".to_string(),
+                    }
+                ),
+            )
+        }
     }
 }
 
@@ -178,6 +203,113 @@ fn distant(
         radiance,
         polarization,
     })
+}
+
+/// Light from every direction at infinity: `"uniform"` or a
+/// latitude–longitude map (an image file relative to the scene, or
+/// `builtin:NAME`), unpolarized, scaled by `radiance`.
+fn environment(
+    loc: &LocFns<'_>,
+    def: &LightDef,
+    env: &Spanned<String>,
+    base: &Path,
+    index: usize,
+) -> Result<Environment, SceneError> {
+    let field = |f: &str| format!("light[{index}].{f}");
+    if let Some(p) = &def.polarization {
+        return loc.err(
+            p.span(),
+            field("polarization"),
+            "an environment is unpolarized: it takes no `polarization` (put a polarizer in the \
+             scene, or use a rectangle or a light at infinity, which take one)",
+        );
+    }
+    if let Some(t) = &def.texture {
+        return loc.err(
+            t.span(),
+            field("texture"),
+            "an environment's map is its `environment` file: it takes no `texture`",
+        );
+    }
+    if let Some(a) = &def.angular_diameter {
+        return loc.err(
+            a.span(),
+            field("angular_diameter"),
+            "is for a light at infinity (`direction`); an environment fills every direction",
+        );
+    }
+    let radiance = radiance(loc, def, index)?;
+    let name = env.get_ref();
+    let map = if name.trim() == "uniform" {
+        None
+    } else if name.trim().is_empty() {
+        return loc.err(
+            env.span(),
+            field("environment"),
+            "give \"uniform\" or a latitude–longitude image (a file relative to the scene, or \
+             builtin:NAME)",
+        );
+    } else {
+        Some(load_environment_map(loc, env, base, &field("environment"))?)
+    };
+    Ok(Environment { radiance, map })
+}
+
+/// An environment's latitude–longitude map from an image's RGB (alpha
+/// ignored): every value finite and ≥ 0.
+fn load_environment_map(
+    loc: &LocFns<'_>,
+    t: &Spanned<String>,
+    base: &Path,
+    field: &str,
+) -> Result<EnvironmentMap, SceneError> {
+    let name = t.get_ref();
+    if let Some(b) = name.strip_prefix("builtin:") {
+        return super::builtin::texture_rgb(b).map_or_else(
+            || {
+                loc.err(
+                    t.span(),
+                    field,
+                    format!(
+                        "no built-in texture `{b}`; built-in textures: {}",
+                        super::builtin::TEXTURE_NAMES.join(", ")
+                    ),
+                )
+            },
+            |(w, h, rgb)| Ok(EnvironmentMap::from_linear_rgb(w, h, &rgb)),
+        );
+    }
+    let path = base.join(name);
+    let image = crate::image::read(&path).or_else(|e| loc.err(t.span(), field, e.to_string()))?;
+    let (width, height) = (image.width(), image.height());
+    if width == 0 || height == 0 {
+        return loc.err(
+            t.span(),
+            field,
+            format!("{}: the image has no pixels", path.display()),
+        );
+    }
+    let rgba = image
+        .rgba()
+        .or_else(|e| loc.err(t.span(), field, e.to_string()))?;
+    let mut rgb = Vec::with_capacity(rgba.len());
+    for (i, p) in rgba.iter().enumerate() {
+        let c = [p[0] as f64, p[1] as f64, p[2] as f64];
+        if !c.iter().all(|v| v.is_finite() && *v >= 0.0) {
+            let (x, y) = (i % width, i / width);
+            return loc.err(
+                t.span(),
+                field,
+                format!(
+                    "{}: pixel ({x}, {y}) is {c:?}: an environment's radiance must be finite \
+                     and ≥ 0",
+                    path.display()
+                ),
+            );
+        }
+        rgb.push(c);
+    }
+    Ok(EnvironmentMap::from_linear_rgb(width, height, &rgb))
 }
 
 /// A light's `polarization`, its filter in the plane of unit `normal`

@@ -12,7 +12,9 @@ use crate::material::{Dispersion, Material};
 use crate::optics::Jones;
 use crate::render::approx::{BranchingArg, CoherenceModel, DispersionMode, PolarizationArg};
 use crate::render::camera::{Camera, Projection};
-pub use crate::render::light::{DistantLight, Light, Polarization, Texture};
+pub use crate::render::light::{
+    DistantLight, Environment, EnvironmentMap, Light, Polarization, Texture,
+};
 use crate::render::settings::{
     resolve, Origin, Set, Settings, SettingsError, SettingsLayer, Wavelengths,
 };
@@ -380,10 +382,35 @@ impl Scene {
         // Lights.
         let mut lights = Vec::new();
         let mut distant_lights = Vec::new();
+        // The environment, with its light's index and where its
+        // `environment` key is.
+        let mut environment: Option<(usize, std::ops::Range<usize>, Environment)> = None;
         for (i, l) in def.lights.iter().enumerate() {
+            if let (Some((first, first_span, _)), Some(e)) =
+                (&environment, &l.get_ref().environment)
+            {
+                return loc.err(
+                    e.span(),
+                    format!("light[{i}].environment"),
+                    format!(
+                        "a scene has at most one environment: light[{first}] (line {}) is one \
+                         already",
+                        loc.line(first_span.clone())
+                            .map_or(String::from("?"), |l| l.to_string())
+                    ),
+                );
+            }
             match light::resolve(&loc_fns(&loc), l, base, i)? {
                 light::AnyLight::Area(l) => lights.push(l),
                 light::AnyLight::Distant(l) => distant_lights.push(l),
+                light::AnyLight::Environment(e) => {
+                    let span = l
+                        .get_ref()
+                        .environment
+                        .as_ref()
+                        .map_or(l.span(), |e| e.span());
+                    environment = Some((i, span, e));
+                }
             }
         }
         let background = match &def.background {
@@ -397,10 +424,27 @@ impl Scene {
                         "must be a finite number ≥ 0",
                     );
                 }
+                if let Some((i, span, _)) = environment.as_ref().filter(|_| v > 0.0) {
+                    return loc.err(
+                        b.radiance.span(),
+                        "background.radiance",
+                        format!(
+                            "the scene has an environment (light[{i}], line {}), which replaces \
+                             the background where rays leave the scene: give one",
+                            loc.line(span.clone())
+                                .map_or(String::from("?"), |l| l.to_string())
+                        ),
+                    );
+                }
                 v
             }
         };
-        if lights.is_empty() && distant_lights.is_empty() && background == 0.0 {
+        let environment = environment.map(|(_, _, e)| e);
+        if lights.is_empty()
+            && distant_lights.is_empty()
+            && environment.is_none()
+            && background == 0.0
+        {
             return Err(SceneError {
                 file: file.to_string(),
                 line: None,
@@ -416,6 +460,7 @@ impl Scene {
             objects,
             lights,
             distant_lights,
+            environment,
             unit_nm,
             background,
             source: text.to_string(),

@@ -197,6 +197,26 @@ fn cases() -> Vec<(&'static str, &'static str, Vec<&'static str>)> {
             "direction = [0.0, 0.0, -1.0]\npolarization = { linear = [0.0, 0.0, 1.0] }",
             vec!["scene.toml:14:", "light[0].polarization.linear", "perpendicular"],
         ),
+        (
+            "corners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, -1.5]]",
+            "environment = \"uniform\"\npolarization = { linear = [1.0, 0.0, 0.0] }",
+            vec!["scene.toml:14:", "light[0].polarization", "unpolarized"],
+        ),
+        (
+            "corners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, -1.5]]",
+            "environment = \"missing.exr\"",
+            vec!["scene.toml:13:", "light[0].environment", "missing.exr"],
+        ),
+        (
+            "corners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, -1.5]]",
+            "environment = \"uniform\"\n\n[background]\nradiance = 1.0",
+            vec!["scene.toml:16:", "background.radiance", "give one"],
+        ),
+        (
+            "[[light]]",
+            "[[light]]\nenvironment = \"uniform\"\n[[light]]\nenvironment = \"uniform\"\n[[light]]",
+            vec!["scene.toml:15:", "light[1].environment", "at most one environment"],
+        ),
     ]
 }
 

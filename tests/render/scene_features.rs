@@ -1,7 +1,8 @@
-//! The scene-file keys of coherence, units, lights at infinity, the
-//! orthographic camera and the camera's analyzer: a good value reads into
-//! what the renderer gets, a bad one is refused naming file:line and the
-//! field. In process, through the scene loader.
+//! The scene-file keys of coherence, units, lights at infinity,
+//! environments, the orthographic camera and the camera's analyzer: a good
+//! value reads into what the renderer gets, a bad one is refused naming
+//! file:line and the field. In process, through the scene loader (and,
+//! for environments, one render).
 
 use num_complex::Complex64;
 use spar::farm::part::scene_hash;
@@ -252,7 +253,12 @@ fn bad_lights_at_infinity_are_refused_by_line_and_field() {
         &light("radiance = 2.0"),
         15,
         "light[0]",
-        &["exactly one of `corners`", "`direction`", "neither"],
+        &[
+            "exactly one of `corners`",
+            "`direction`",
+            "`environment`",
+            "none of them",
+        ],
     );
     refused(
         &format!("{GOOD}direction = [0.0, 0.0, -1.0]\n"),
@@ -509,4 +515,334 @@ fn bad_analyzers_are_refused_by_line_and_field() {
     // The table form names its lines too.
     let text = camera("[camera.analyzer]\nlinear = 0.0\nthen = { linear = inf }");
     refused(&text, 9, "camera.analyzer.then.linear", &["finite"]);
+}
+
+/// Writes a linear float image of `channels` (interleaved `data`) as
+/// `dir/name` (EXR or PNG by its extension).
+fn write_image(
+    dir: &Path,
+    name: &str,
+    w: usize,
+    h: usize,
+    channels: &[&str],
+    data: Vec<f32>,
+    pixel_type: spar::image::PixelType,
+) {
+    let image =
+        spar::image::Image::new(w, h, channels.iter().map(|c| c.to_string()).collect(), data)
+            .unwrap();
+    spar::image::write(
+        &dir.join(name),
+        &image,
+        spar::image::WriteOptions::new(pixel_type),
+    )
+    .unwrap();
+}
+
+/// `text` read with relative paths resolved in `dir`.
+fn parse_in(text: &str, dir: &Path) -> Result<Scene, String> {
+    Scene::parse(text, "s.toml", dir).map_err(|e| e.to_string())
+}
+
+#[test]
+fn an_environment_reads_uniform_or_a_latitude_longitude_map() {
+    use spar::image::PixelType;
+    // Uniform, the only light: radiance 1 by default.
+    let s = parse(&light("environment = \"uniform\"")).unwrap();
+    assert!(s.lights.is_empty() && s.distant_lights.is_empty());
+    let env = s.environment.as_ref().expect("an environment");
+    assert_eq!(env.radiance, 1.0);
+    assert!(env.map.is_none());
+    let s = parse(&light("environment = \"uniform\"\nradiance = 2.5")).unwrap();
+    assert_eq!(s.environment.as_ref().unwrap().radiance, 2.5);
+    // Radiance 0 still counts as a light; a zero background is allowed.
+    parse(&light("environment = \"uniform\"\nradiance = 0.0")).unwrap();
+    parse(&format!(
+        "{}\n[background]\nradiance = 0.0\n",
+        light("environment = \"uniform\"")
+    ))
+    .unwrap();
+    // With a rectangle.
+    let s = parse(&format!("{GOOD}\n[[light]]\nenvironment = \"uniform\"\n")).unwrap();
+    assert_eq!(s.lights.len(), 1);
+    assert!(s.environment.is_some());
+
+    // A 4×2 EXR map, one bright texel (2, 1) of [5, 1, 0.5]; alpha is
+    // ignored (0 here, and NaN in a second file).
+    let dir = tempfile::tempdir().unwrap();
+    let texels = |alpha: f32| {
+        let mut data = Vec::new();
+        for y in 0..2 {
+            for x in 0..4 {
+                let rgb = if (x, y) == (2, 1) {
+                    [5.0, 1.0, 0.5]
+                } else {
+                    [0.25; 3]
+                };
+                data.extend_from_slice(&rgb);
+                data.push(alpha);
+            }
+        }
+        data
+    };
+    let rgba = ["R", "G", "B", "A"];
+    write_image(
+        dir.path(),
+        "sky.exr",
+        4,
+        2,
+        &rgba,
+        texels(0.0),
+        PixelType::F32,
+    );
+    write_image(
+        dir.path(),
+        "nan_alpha.exr",
+        4,
+        2,
+        &rgba,
+        texels(f32::NAN),
+        PixelType::F32,
+    );
+    for file in ["sky.exr", "nan_alpha.exr"] {
+        let s = parse_in(
+            &light(&format!("environment = \"{file}\"\nradiance = 3.0")),
+            dir.path(),
+        )
+        .unwrap();
+        let env = s.environment.as_ref().unwrap();
+        assert_eq!(env.radiance, 3.0);
+        let map = env.map.as_ref().expect("a map");
+        assert_eq!((map.texture.width, map.texture.height), (4, 2), "{file}");
+        for (i, &scale) in map.scale.iter().enumerate() {
+            let want = if i == 4 + 2 { 5.0 } else { 0.25 };
+            assert_eq!(scale, want, "{file}: texel {i}");
+        }
+    }
+    // A PNG (8-bit sRGB, decoded to linear): white is 1.
+    write_image(
+        dir.path(),
+        "white.png",
+        3,
+        1,
+        &["R", "G", "B"],
+        vec![1.0; 9],
+        PixelType::U8,
+    );
+    let s = parse_in(&light("environment = \"white.png\""), dir.path()).unwrap();
+    let map = s.environment.as_ref().unwrap().map.as_ref().unwrap();
+    assert_eq!((map.texture.width, map.texture.height), (3, 1));
+    assert_eq!(map.scale, vec![1.0; 3]);
+    // A built-in texture.
+    let s = parse(&light("environment = \"builtin:checker\"")).unwrap();
+    let map = s.environment.as_ref().unwrap().map.as_ref().unwrap();
+    assert_eq!((map.texture.width, map.texture.height), (8, 8));
+
+    // The environment is part of what the scene renders.
+    let hash = |text: &str| scene_hash(&parse_in(text, dir.path()).unwrap());
+    let uniform = hash(&light("environment = \"uniform\""));
+    assert_ne!(
+        uniform,
+        hash(&light("environment = \"uniform\"\nradiance = 2.0"))
+    );
+    assert_ne!(uniform, hash(&light("environment = \"sky.exr\"")));
+    assert_ne!(
+        hash(&light("environment = \"sky.exr\"")),
+        hash(&light("environment = \"white.png\""))
+    );
+    assert_ne!(
+        hash(GOOD),
+        hash(&format!("{GOOD}\n[[light]]\nenvironment = \"uniform\"\n"))
+    );
+}
+
+#[test]
+fn bad_environments_are_refused_by_line_and_field() {
+    use spar::image::PixelType;
+    let env = "environment = \"uniform\"";
+    // The [[light]] table starts at line 15; its first key is line 16.
+    refused(
+        &light(&format!(
+            "{env}\npolarization = {{ linear = [1.0, 0.0, 0.0] }}"
+        )),
+        17,
+        "light[0].polarization",
+        &["an environment is unpolarized"],
+    );
+    refused(
+        &light(&format!("{env}\npolarization = \"unpolarized\"")),
+        17,
+        "light[0].polarization",
+        &["an environment is unpolarized"],
+    );
+    refused(
+        &light(&format!("{env}\ntexture = \"builtin:checker\"")),
+        17,
+        "light[0].texture",
+        &["map is its `environment` file"],
+    );
+    refused(
+        &light(&format!("{env}\nangular_diameter = 0.5")),
+        17,
+        "light[0].angular_diameter",
+        &["every direction"],
+    );
+    for bad in ["-1.0", "nan", "inf"] {
+        refused(
+            &light(&format!("{env}\nradiance = {bad}")),
+            17,
+            "light[0].radiance",
+            &["finite number ≥ 0"],
+        );
+    }
+    refused(
+        &light("environment = \"\""),
+        16,
+        "light[0].environment",
+        &["\"uniform\""],
+    );
+    refused(
+        &light("environment = \"builtin:sky\""),
+        16,
+        "light[0].environment",
+        &["no built-in texture `sky`", "checker"],
+    );
+    refused(
+        &light("environment = \"missing.exr\""),
+        16,
+        "light[0].environment",
+        &["missing.exr"],
+    );
+    refused(&light("environment = 3"), 16, "", &["string"]);
+    // Exactly one of corners, direction and environment.
+    refused(
+        &format!("{GOOD}{env}\n"),
+        15,
+        "light[0]",
+        &["exactly one of", "both `corners` and `environment`"],
+    );
+    refused(
+        &light(&format!("{env}\ndirection = [0.0, 0.0, -1.0]")),
+        15,
+        "light[0]",
+        &["both `direction` and `environment`"],
+    );
+    refused(
+        &format!("{GOOD}{env}\ndirection = [0.0, 0.0, -1.0]\n"),
+        15,
+        "light[0]",
+        &["all three"],
+    );
+    // At most one environment: the second is refused, naming the first.
+    refused(
+        &format!("{}[[light]]\n{env}\n", light(env)),
+        18,
+        "light[1].environment",
+        &["at most one environment", "light[0] (line 16)"],
+    );
+    // It replaces the background: not both.
+    refused(
+        &format!("{}\n[background]\nradiance = 0.5\n", light(env)),
+        19,
+        "background.radiance",
+        &[
+            "environment (light[0], line 16)",
+            "replaces the background",
+            "give one",
+        ],
+    );
+    // Texels must be finite and ≥ 0: the file and the pixel are named.
+    let dir = tempfile::tempdir().unwrap();
+    let rgb = ["R", "G", "B"];
+    let mut nan = vec![1.0f32; 2 * 2 * 3];
+    nan[3 + 1] = f32::NAN; // pixel (1, 0), green
+    write_image(dir.path(), "nan.exr", 2, 2, &rgb, nan, PixelType::F32);
+    let mut negative = vec![1.0f32; 2 * 2 * 3];
+    negative[2 * 3 + 2] = -0.5; // pixel (0, 1), blue
+    write_image(
+        dir.path(),
+        "negative.exr",
+        2,
+        2,
+        &rgb,
+        negative,
+        PixelType::F32,
+    );
+    let mut inf = vec![1.0f32; 2 * 2 * 3];
+    inf[3 * 3] = f32::INFINITY; // pixel (1, 1), red
+    write_image(dir.path(), "inf.exr", 2, 2, &rgb, inf, PixelType::F32);
+    for (file, pixel) in [
+        ("nan.exr", "pixel (1, 0)"),
+        ("negative.exr", "pixel (0, 1)"),
+        ("inf.exr", "pixel (1, 1)"),
+    ] {
+        let err = parse_in(&light(&format!("environment = \"{file}\"")), dir.path())
+            .err()
+            .unwrap_or_else(|| panic!("{file} accepted"));
+        assert!(
+            err.starts_with("s.toml:16: light[0].environment: "),
+            "{err}"
+        );
+        for says in [file, pixel, "finite and ≥ 0"] {
+            assert!(err.contains(says), "`{says}` not in `{err}`");
+        }
+    }
+    // A file that is not an image.
+    std::fs::write(dir.path().join("sky.png"), b"not a png").unwrap();
+    let err = parse_in(&light("environment = \"sky.png\""), dir.path()).unwrap_err();
+    assert!(
+        err.starts_with("s.toml:16: light[0].environment: ") && err.contains("sky.png"),
+        "{err}"
+    );
+}
+
+/// A scene of nothing but an environment (its 1×2 map: the upper
+/// hemisphere grey 2, the lower grey 0.5) seen by a narrow camera at the
+/// origin looking along `look`: every pixel sees the environment's
+/// radiance there, unpolarized, with either coherence model.
+#[test]
+fn an_environment_is_seen_where_rays_leave_the_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    write_image(
+        dir.path(),
+        "sky.exr",
+        1,
+        2,
+        &["R", "G", "B"],
+        vec![2.0, 2.0, 2.0, 0.5, 0.5, 0.5],
+        spar::image::PixelType::F32,
+    );
+    let lambdas = [450.0, 550.0, 650.0];
+    for (look, up, level) in [
+        ("[0.0, 0.0, 1.0]", "[0.0, 1.0, 0.0]", 2.0),
+        ("[0.0, 0.0, -1.0]", "[0.0, 1.0, 0.0]", 0.5),
+        // Sideways but a little above and below the horizon.
+        ("[1.0, 0.3, 0.2]", "[0.0, 0.0, 1.0]", 2.0),
+        ("[-0.4, -1.0, -0.2]", "[0.0, 0.0, 1.0]", 0.5),
+    ] {
+        for coherence in ["physical", "incoherent"] {
+            let text = format!(
+                "[camera]\neye = [0.0, 0.0, 0.0]\nlook_at = {look}\nup = {up}\nfov = 1.0\n\
+                 resolution = [2, 2]\n\n[render]\ncoherence = \"{coherence}\"\n\n\
+                 [[light]]\nenvironment = \"sky.exr\"\nradiance = 1.5\n"
+            );
+            let s = parse_in(&text, dir.path()).unwrap_or_else(|e| panic!("{e}"));
+            let (film, _) = crate::support::render::render_at(&s, &lambdas);
+            for (i, &lambda) in lambdas.iter().enumerate() {
+                let want = 1.5 * level * spar::spectrum::cie::d65(lambda);
+                for (x, y) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                    let st = film.stokes(x, y, i);
+                    let what = format!("look {look}, {coherence}, {lambda} nm, pixel ({x}, {y})");
+                    assert!(
+                        (st[0] - want).abs() <= 1e-6 * want,
+                        "{what}: S0 {} want {want}",
+                        st[0]
+                    );
+                    for (c, v) in st.iter().enumerate().skip(1) {
+                        assert!(v.abs() <= 1e-9 * want, "{what}: S{c} {v}");
+                    }
+                }
+            }
+        }
+    }
 }
