@@ -73,9 +73,10 @@ pub struct FarmArgs {
     /// at edges; pin one for all of them.
     #[arg(long)]
     pub isa: Option<String>,
-    /// Progress: auto (a bar on a terminal, else plain lines), bar, plain
-    /// (`spar: progress …` lines on stdout), openjd (`openjd_progress: N`),
-    /// none.
+    /// Progress: auto (a bar when stderr is a terminal, else log), bar,
+    /// log (`spar: progress …` lines on stdout every tenth of the tiles or
+    /// 5 s, whichever first), plain (such a line per tile, for farm logs),
+    /// openjd (`openjd_progress: N`), none.
     #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
     pub progress: ProgressMode,
     /// Checkpoint file written on SIGTERM, SIGINT or SIGUSR1 (default: the

@@ -24,7 +24,8 @@ pub struct DevelopArgs {
     /// render's).
     #[arg(long)]
     pub wavelength: Option<f64>,
-    /// Progress lines: auto, plain, openjd, none.
+    /// Progress lines: auto, log, plain, openjd, none (events only: log and
+    /// plain are the same here).
     #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
     pub progress: ProgressMode,
     /// No messages.

@@ -20,7 +20,8 @@ pub struct MergeArgs {
     /// The merged raw EXR (develop it with `spar develop`).
     #[arg(long, short)]
     pub output: PathBuf,
-    /// Progress lines: auto, plain, openjd, none (bar means plain here).
+    /// Progress lines: auto, log, plain, openjd, none (a merge prints events
+    /// only: log and plain are the same here; bar prints none).
     #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
     pub progress: ProgressMode,
     /// No messages.

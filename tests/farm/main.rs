@@ -10,4 +10,5 @@ mod farm_bad_values;
 mod farm_cli;
 mod farm_determinism;
 mod farm_merge_errors;
+mod farm_progress;
 mod fuzz_parts;
