@@ -26,13 +26,10 @@
 //! the band's temporal coherence (`sinc(π ΔL Δλ / λ²)` for a flat band Δλ
 //! wide). Groups are found by sorting, not by comparing every pair.
 
-use super::integrator::{max_gain, Region, Stats, Tracer, WavelengthMedia};
-use super::sampling::{dim, SampleKey};
-use crate::accel::Ray;
-use crate::optics::backward::Feeders;
+use super::integrator::{max_gain, Node, Region, Stats, Traced, Tracer, WavelengthMedia};
+use super::sampling::SampleKey;
 use crate::optics::modes::{Side, WaveKind};
-use crate::optics::{Coherence, Interface, Jones};
-use crate::render::approx::Branching;
+use crate::optics::{Coherence, Jones};
 use glam::DVec3;
 use num_complex::Complex64;
 use std::cell::RefCell;
@@ -215,59 +212,20 @@ impl Tracer<'_> {
         stats: &mut Stats,
     ) {
         stats.rays += 1;
-        let (ray, t0) = self.start_in_bounds(p.origin, p.dir);
-        let hit = match ray {
-            Some(ray) if crate::accel::traceable(&ray) => self.accel.intersect(&ray),
-            Some(_) => {
-                stats.lose(|c| &mut c.untraceable);
-                return;
-            }
-            None => None,
+        let Some(Traced { ray, hit, t_hit }) = self.trace(p.origin, p.dir, stats) else {
+            return;
         };
-        let t_hit = hit.map_or(f64::INFINITY, |h| h.t + t0);
         if p.region == Region::Ambient && self.reach_light(p, basis, t_hit, leaves) {
             return;
         }
-        let Some(hit) = hit else {
-            stats.lose(|c| &mut c.escaped);
-            return;
-        };
-        let ray: Ray = ray.expect("a hit has a ray");
-        if p.depth >= self.settings.max_depth {
-            stats.depth_cut += 1;
-            return;
-        }
-        let object = hit.geom;
-        let outward = self.scene.objects[object as usize]
-            .mesh
-            .triangle_normal(hit.prim);
-        let (normal, other) = match p.region {
-            Region::Ambient => (outward, Region::Inside(object)),
-            Region::Inside(i) if i == object => (-outward, Region::Ambient),
-            Region::Inside(_) => {
-                stats.lose(|c| &mut c.overlap);
-                return;
-            }
-        };
-        let leaving = -p.dir;
-        if !(leaving.dot(normal) > 0.0) {
-            if p.depth == 0 {
-                stats.lose(|c| &mut c.camera_inside);
-            } else {
-                stats.lose(|c| &mut c.wrong_side);
-            }
-            return;
-        }
-        let Ok(iface) = Interface::new(
+        let Some(Node {
+            ray,
+            hit,
             normal,
-            self.medium_of(p.region, media),
-            self.medium_of(other, media),
-        ) else {
-            stats.lose(|c| &mut c.solver);
-            return;
-        };
-        let Ok(feeders): Result<Feeders, _> = iface.feeders(Side::Plus, p.kind, leaving) else {
-            stats.lose(|c| &mut c.solver);
+            other,
+            feeders,
+        }) = self.node(ray, hit, p.region, p.kind, p.dir, p.depth, media, stats)
+        else {
             return;
         };
         stats.nodes += 1;
@@ -295,38 +253,7 @@ impl Tracer<'_> {
         let gains: [f64; 4] =
             std::array::from_fn(|i| list.get(i).map_or(0.0, |f| max_gain(&f.block)));
 
-        let sampled = match self.strategy.branching {
-            Branching::Full => false,
-            Branching::Stochastic => true,
-            Branching::Hybrid { full_depth } => p.depth >= full_depth,
-        };
-        let total: f64 = gains.iter().sum();
-        let mut chosen: [(usize, f64); 4] = [(0, 0.0); 4];
-        let mut n_chosen = 0;
-        if sampled {
-            if total > 0.0 {
-                let u = key.uniform_at(dim::BRANCH + p.depth, p.branch) * total;
-                let mut acc = 0.0;
-                let mut pick = list.len() - 1;
-                for (i, g) in gains.iter().enumerate().take(list.len()) {
-                    acc += g;
-                    if u < acc {
-                        pick = i;
-                        break;
-                    }
-                }
-                while gains[pick] == 0.0 && pick > 0 {
-                    pick -= 1;
-                }
-                chosen[0] = (pick, total / gains[pick]);
-                n_chosen = 1;
-            }
-        } else {
-            for i in 0..list.len() {
-                chosen[n_chosen] = (i, 1.0);
-                n_chosen += 1;
-            }
-        }
+        let (sampled, (chosen, n_chosen)) = self.choose(&gains, list.len(), p.depth, p.branch, key);
         for &(i, weight) in &chosen[..n_chosen] {
             let f = &list[i];
             let throughput = p.throughput * gains[i];
@@ -381,14 +308,7 @@ impl Tracer<'_> {
     ) -> bool {
         let scene = self.scene;
         let k = -p.dir;
-        let mut best: Option<(f64, usize, f64, f64)> = None;
-        for (i, light) in scene.lights.iter().enumerate() {
-            if let Some((t, s, tt)) = light.hit(p.origin, p.dir) {
-                if t < t_hit && best.is_none_or(|b| t < b.0) {
-                    best = Some((t, i, s, tt));
-                }
-            }
-        }
+        let best = self.nearest_light(p.origin, p.dir, t_hit);
         let (source, reference, st, solid_angle) = if let Some((t, i, s, tt)) = best {
             let light = &scene.lights[i];
             let area = light.u.cross(light.v).length();

@@ -40,7 +40,7 @@
 //! f64: the same ray, so exact for any camera, but the backend's f32
 //! arithmetic then works at the scene's scale, not the camera's distance.
 
-use crate::accel::{Intersector, Ray};
+use crate::accel::{Hit, Intersector, Ray};
 use crate::optics::backward::Feeders;
 use crate::optics::modes::{Side, WaveKind};
 use crate::optics::{Coherence, Interface, Jones, Medium};
@@ -269,6 +269,30 @@ pub struct TreeSettings {
     pub prune: f64,
 }
 
+/// A traced backward ray: the ray handed to the backend (`None` when it
+/// misses the scene's bounding sphere), its hit, and the query's own ray
+/// parameter at the hit (∞ without one).
+pub(super) struct Traced {
+    pub ray: Option<Ray>,
+    pub hit: Option<Hit>,
+    pub t_hit: f64,
+}
+
+/// A surface a backward ray met, ready for the interface solver: the
+/// backend's ray and hit, the normal into the ray's side, the region on
+/// the far side, and the feeders of the ray's wave.
+pub(super) struct Node {
+    pub ray: Ray,
+    pub hit: Hit,
+    pub normal: DVec3,
+    pub other: Region,
+    pub feeders: Feeders,
+}
+
+/// The feeders a node follows, each with the weight of its contribution
+/// (`.1` of them used).
+pub(super) type Chosen = ([(usize, f64); 4], usize);
+
 /// Traces backward trees through one scene.
 pub struct Tracer<'a> {
     pub(super) scene: &'a Scene,
@@ -477,6 +501,163 @@ impl<'a> Tracer<'a> {
         (Some(Ray::new(start, dir)), t0)
     }
 
+    /// Intersects the backward ray from `origin` along `dir` (started on
+    /// the scene's bounding sphere when it comes from outside); `None`
+    /// when the backend cannot trace it (counted lost).
+    pub(super) fn trace(&self, origin: DVec3, dir: DVec3, stats: &mut Stats) -> Option<Traced> {
+        // The ray handed to the backend starts `t0` along the query's.
+        let (ray, t0) = self.start_in_bounds(origin, dir);
+        let hit = match ray {
+            Some(ray) if crate::accel::traceable(&ray) => self.accel.intersect(&ray),
+            Some(_) => {
+                stats.lose(|c| &mut c.untraceable);
+                return None;
+            }
+            None => None,
+        };
+        let t_hit = hit.map_or(f64::INFINITY, |h| h.t + t0);
+        Some(Traced { ray, hit, t_hit })
+    }
+
+    /// The nearest area light in front of `t_hit` along the ray from
+    /// `origin` along `dir`: (t, index, face coordinates s and t).
+    pub(super) fn nearest_light(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        t_hit: f64,
+    ) -> Option<(f64, usize, f64, f64)> {
+        let mut best: Option<(f64, usize, f64, f64)> = None;
+        for (i, light) in self.scene.lights.iter().enumerate() {
+            if let Some((t, s, tt)) = light.hit(origin, dir) {
+                if t < t_hit && best.is_none_or(|b| t < b.0) {
+                    best = Some((t, i, s, tt));
+                }
+            }
+        }
+        best
+    }
+
+    /// The node where a backward ray of wave `kind` in `region`, travelling
+    /// along `dir`, meets the surface: `None` (counted: escaped, depth
+    /// cut, overlap, wrong side or solver) when there is no wave to
+    /// continue.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn node(
+        &self,
+        ray: Option<Ray>,
+        hit: Option<Hit>,
+        region: Region,
+        kind: WaveKind,
+        dir: DVec3,
+        depth: u32,
+        media: &WavelengthMedia,
+        stats: &mut Stats,
+    ) -> Option<Node> {
+        let Some(hit) = hit else {
+            // Inside a closed mesh every ray must hit it again.
+            stats.lose(|c| &mut c.escaped);
+            return None;
+        };
+        let ray = ray.expect("a hit has a ray");
+        if depth >= self.settings.max_depth {
+            stats.depth_cut += 1;
+            return None;
+        }
+        let object = hit.geom;
+        let outward = self.scene.objects[object as usize]
+            .mesh
+            .triangle_normal(hit.prim);
+        // Side + is where our wave lives: outside when we come from air.
+        let (normal, other) = match region {
+            Region::Ambient => (outward, Region::Inside(object)),
+            Region::Inside(i) if i == object => (-outward, Region::Ambient),
+            Region::Inside(_) => {
+                // Objects must not overlap or touch.
+                stats.lose(|c| &mut c.overlap);
+                return None;
+            }
+        };
+        let leaving = -dir;
+        if !(leaving.dot(normal) > 0.0) {
+            // Met the facet from its far side (a grazing ray at an edge, or
+            // a camera inside the object): no outgoing wave on our side.
+            if depth == 0 {
+                stats.lose(|c| &mut c.camera_inside);
+            } else {
+                stats.lose(|c| &mut c.wrong_side);
+            }
+            return None;
+        }
+        let Ok(iface) = Interface::new(
+            normal,
+            self.medium_of(region, media),
+            self.medium_of(other, media),
+        ) else {
+            stats.lose(|c| &mut c.solver);
+            return None;
+        };
+        let Ok(feeders): Result<Feeders, _> = iface.feeders(Side::Plus, kind, leaving) else {
+            stats.lose(|c| &mut c.solver);
+            return None;
+        };
+        Some(Node {
+            ray,
+            hit,
+            normal,
+            other,
+            feeders,
+        })
+    }
+
+    /// Which of a node's `n` feeders (with these gains) to follow, each with
+    /// the weight its contribution gets: all with weight 1, or — where the
+    /// strategy samples — one, chosen with probability gain / Σ gains, with
+    /// weight 1/p. Returns whether the node sampled.
+    pub(super) fn choose(
+        &self,
+        gains: &[f64; 4],
+        n: usize,
+        depth: u32,
+        path: u64,
+        key: &SampleKey,
+    ) -> (bool, Chosen) {
+        let sampled = match self.strategy.branching {
+            Branching::Full => false,
+            Branching::Stochastic => true,
+            Branching::Hybrid { full_depth } => depth >= full_depth,
+        };
+        let total: f64 = gains.iter().sum();
+        let mut chosen: [(usize, f64); 4] = [(0, 0.0); 4];
+        let mut n_chosen = 0;
+        if sampled {
+            if total > 0.0 {
+                let u = key.uniform_at(dim::BRANCH + depth, path) * total;
+                let mut acc = 0.0;
+                let mut pick = n - 1;
+                for (i, g) in gains.iter().enumerate().take(n) {
+                    acc += g;
+                    if u < acc {
+                        pick = i;
+                        break;
+                    }
+                }
+                // Never pick a feeder that cannot pass anything.
+                while gains[pick] == 0.0 && pick > 0 {
+                    pick -= 1;
+                }
+                chosen[0] = (pick, total / gains[pick]);
+                n_chosen = 1;
+            }
+        } else {
+            for i in 0..n {
+                chosen[n_chosen] = (i, 1.0);
+                n_chosen += 1;
+            }
+        }
+        (sampled, (chosen, n_chosen))
+    }
+
     pub(super) fn medium_of(&self, region: Region, media: &WavelengthMedia) -> Medium {
         match region {
             Region::Ambient => AMBIENT,
@@ -503,29 +684,12 @@ impl<'a> Tracer<'a> {
         let modes = q.kind.mode_count();
         let zero = |out: &mut [Coherence]| out.iter_mut().for_each(|o| *o = Coherence::zero(modes));
         let scalar = self.strategy.polarization == PolarizationModel::Scalar;
-        // The ray handed to the backend starts `t0` along the query's.
-        let (ray, t0) = self.start_in_bounds(q.origin, q.dir);
-        let hit = match ray {
-            Some(ray) if crate::accel::traceable(&ray) => self.accel.intersect(&ray),
-            Some(_) => {
-                stats.lose(|c| &mut c.untraceable);
-                return zero(out);
-            }
-            None => None,
+        let Some(Traced { ray, hit, t_hit }) = self.trace(q.origin, q.dir, stats) else {
+            return zero(out);
         };
-        let t_hit = hit.map_or(f64::INFINITY, |h| h.t + t0);
 
         if q.region == Region::Ambient {
-            // The nearest light in front of the nearest surface.
-            let mut best: Option<(f64, usize, f64, f64)> = None;
-            for (i, light) in self.scene.lights.iter().enumerate() {
-                if let Some((t, s, tt)) = light.hit(q.origin, q.dir) {
-                    if t < t_hit && best.is_none_or(|b| t < b.0) {
-                        best = Some((t, i, s, tt));
-                    }
-                }
-            }
-            if let Some((_, i, s, tt)) = best {
+            if let Some((_, i, s, tt)) = self.nearest_light(q.origin, q.dir, t_hit) {
                 let light = &self.scene.lights[i];
                 for (o, m) in out.iter_mut().zip(batch) {
                     let j = light.emitted(s, tt, m.lambda_nm, -q.dir, basis[0], basis[1]);
@@ -568,52 +732,14 @@ impl<'a> Tracer<'a> {
                 return;
             }
         }
-        let Some(hit) = hit else {
-            // Inside a closed mesh every ray must hit it again.
-            stats.lose(|c| &mut c.escaped);
-            return zero(out);
-        };
-        let ray = ray.expect("a hit has a ray");
-        if q.depth >= self.settings.max_depth {
-            stats.depth_cut += 1;
-            return zero(out);
-        }
-        let object = hit.geom;
-        let outward = self.scene.objects[object as usize]
-            .mesh
-            .triangle_normal(hit.prim);
-        // Side + is where our wave lives: outside when we come from air.
-        let (normal, other) = match q.region {
-            Region::Ambient => (outward, Region::Inside(object)),
-            Region::Inside(i) if i == object => (-outward, Region::Ambient),
-            Region::Inside(_) => {
-                // Objects must not overlap or touch.
-                stats.lose(|c| &mut c.overlap);
-                return zero(out);
-            }
-        };
-        let leaving = -q.dir;
-        if !(leaving.dot(normal) > 0.0) {
-            // Met the facet from its far side (a grazing ray at an edge, or
-            // a camera inside the object): no outgoing wave on our side.
-            if q.depth == 0 {
-                stats.lose(|c| &mut c.camera_inside);
-            } else {
-                stats.lose(|c| &mut c.wrong_side);
-            }
-            return zero(out);
-        }
-        let media = &batch[0];
-        let Ok(iface) = Interface::new(
+        let Some(Node {
+            ray,
+            hit,
             normal,
-            self.medium_of(q.region, media),
-            self.medium_of(other, media),
-        ) else {
-            stats.lose(|c| &mut c.solver);
-            return zero(out);
-        };
-        let Ok(feeders): Result<Feeders, _> = iface.feeders(Side::Plus, q.kind, leaving) else {
-            stats.lose(|c| &mut c.solver);
+            other,
+            feeders,
+        }) = self.node(ray, hit, q.region, q.kind, q.dir, q.depth, &batch[0], stats)
+        else {
             return zero(out);
         };
         stats.nodes += 1;
@@ -632,39 +758,8 @@ impl<'a> Tracer<'a> {
 
         // Which feeders to follow, each with the weight its contribution
         // gets: all with weight 1, or one sampled with weight 1/p.
-        let sampled = match self.strategy.branching {
-            Branching::Full => false,
-            Branching::Stochastic => true,
-            Branching::Hybrid { full_depth } => q.depth >= full_depth,
-        };
-        let total: f64 = gains.iter().sum();
-        let mut chosen: [(usize, f64); 4] = [(0, 0.0); 4];
-        let mut n_chosen = 0;
-        if sampled {
-            if total > 0.0 {
-                let u = key.uniform_at(dim::BRANCH + q.depth, q.path) * total;
-                let mut acc = 0.0;
-                let mut pick = list.len() - 1;
-                for (i, g) in gains.iter().enumerate().take(list.len()) {
-                    acc += g;
-                    if u < acc {
-                        pick = i;
-                        break;
-                    }
-                }
-                // Never pick a feeder that cannot pass anything.
-                while gains[pick] == 0.0 && pick > 0 {
-                    pick -= 1;
-                }
-                chosen[0] = (pick, total / gains[pick]);
-                n_chosen = 1;
-            }
-        } else {
-            for i in 0..list.len() {
-                chosen[n_chosen] = (i, 1.0);
-                n_chosen += 1;
-            }
-        }
+        let (sampled, chosen) = self.choose(&gains, list.len(), q.depth, q.path, key);
+        let (chosen, n_chosen) = chosen;
 
         let n = out.len();
         for o in out.iter_mut() {
