@@ -263,6 +263,24 @@ fn load_environment_map(
     base: &Path,
     field: &str,
 ) -> Result<EnvironmentMap, SceneError> {
+    let (w, h, rgb) = load_rgb(loc, t, base, field, |c| {
+        (!c.iter().all(|v| v.is_finite() && *v >= 0.0))
+            .then(|| format!("is {c:?}: an environment's radiance must be finite and ≥ 0"))
+    })?;
+    Ok(EnvironmentMap::from_linear_rgb(w, h, &rgb))
+}
+
+/// An image's linear RGB (alpha ignored), row-major, for a texture or an
+/// environment: a built-in (`builtin:NAME`) or a file relative to `base`.
+/// `bad` names what is wrong with a texel (after "pixel (x, y) "), if
+/// anything; the image must have pixels.
+fn load_rgb(
+    loc: &LocFns<'_>,
+    t: &Spanned<String>,
+    base: &Path,
+    field: &str,
+    bad: impl Fn([f64; 3]) -> Option<String>,
+) -> Result<(usize, usize, Vec<[f64; 3]>), SceneError> {
     let name = t.get_ref();
     if let Some(b) = name.strip_prefix("builtin:") {
         return super::builtin::texture_rgb(b).map_or_else(
@@ -276,7 +294,7 @@ fn load_environment_map(
                     ),
                 )
             },
-            |(w, h, rgb)| Ok(EnvironmentMap::from_linear_rgb(w, h, &rgb)),
+            Ok,
         );
     }
     let path = base.join(name);
@@ -295,21 +313,17 @@ fn load_environment_map(
     let mut rgb = Vec::with_capacity(rgba.len());
     for (i, p) in rgba.iter().enumerate() {
         let c = [p[0] as f64, p[1] as f64, p[2] as f64];
-        if !c.iter().all(|v| v.is_finite() && *v >= 0.0) {
+        if let Some(why) = bad(c) {
             let (x, y) = (i % width, i / width);
             return loc.err(
                 t.span(),
                 field,
-                format!(
-                    "{}: pixel ({x}, {y}) is {c:?}: an environment's radiance must be finite \
-                     and ≥ 0",
-                    path.display()
-                ),
+                format!("{}: pixel ({x}, {y}) {why}", path.display()),
             );
         }
         rgb.push(c);
     }
-    Ok(EnvironmentMap::from_linear_rgb(width, height, &rgb))
+    Ok((width, height, rgb))
 }
 
 /// A light's `polarization`, its filter in the plane of unit `normal`
@@ -380,42 +394,8 @@ fn load_texture(
     base: &Path,
     field: &str,
 ) -> Result<Texture, SceneError> {
-    let name = t.get_ref();
-    if let Some(b) = name.strip_prefix("builtin:") {
-        return super::builtin::texture(b).map_or_else(
-            || {
-                loc.err(
-                    t.span(),
-                    field,
-                    format!(
-                        "no built-in texture `{b}`; built-in textures: {}",
-                        super::builtin::TEXTURE_NAMES.join(", ")
-                    ),
-                )
-            },
-            Ok,
-        );
-    }
-    let path = base.join(name);
-    let image = crate::image::read(&path).or_else(|e| loc.err(t.span(), field, e.to_string()))?;
-    let rgba = image
-        .rgba()
-        .or_else(|e| loc.err(t.span(), field, e.to_string()))?;
-    let mut rgb = Vec::with_capacity(rgba.len());
-    for (i, p) in rgba.iter().enumerate() {
-        if !p.iter().all(|c| c.is_finite()) {
-            let (x, y) = (i % image.width(), i / image.width());
-            return loc.err(
-                t.span(),
-                field,
-                format!("{}: pixel ({x}, {y}) is not finite", path.display()),
-            );
-        }
-        rgb.push([p[0] as f64, p[1] as f64, p[2] as f64]);
-    }
-    Ok(Texture::from_linear_rgb(
-        image.width(),
-        image.height(),
-        &rgb,
-    ))
+    let (w, h, rgb) = load_rgb(loc, t, base, field, |c| {
+        (!c.iter().all(|v| v.is_finite())).then(|| "is not finite".to_string())
+    })?;
+    Ok(Texture::from_linear_rgb(w, h, &rgb))
 }
