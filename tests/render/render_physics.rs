@@ -9,6 +9,12 @@
 use crate::support::render as common;
 use common::*;
 use spar::accel::AccelKind;
+use spar::render::approx::CoherenceModel;
+
+/// Every check here holds in both ways paths may combine (docs/physics.md
+/// §9): the physical model (the default) and the seed paper's incoherent
+/// one.
+const MODELS: [CoherenceModel; 2] = [CoherenceModel::Physical, CoherenceModel::Incoherent];
 
 on_every_backend!(
     direct_view_of_an_unpolarized_light_is_unpolarized,
@@ -38,8 +44,14 @@ polarization = {polarization}
 }
 
 fn direct_view_of_an_unpolarized_light_is_unpolarized(accel: AccelKind) {
+    for model in MODELS {
+        direct_view_of_an_unpolarized_light_is_unpolarized_in(accel, model);
+    }
+}
+
+fn direct_view_of_an_unpolarized_light_is_unpolarized_in(accel: AccelKind, model: CoherenceModel) {
     let (scene, _d) = scene(&direct_view("\"unpolarized\""), &[]);
-    let (film, _) = render_with(&scene, &[580.0], accel);
+    let (film, _) = render_model(&scene, &[580.0], accel, model);
     let s = mean_stokes(&film, 0, 8, 0, 8, 0);
     let (p, _, _) = polarimetry(s);
     assert!(p < 1e-12, "P = {p}");
@@ -51,11 +63,17 @@ fn direct_view_of_an_unpolarized_light_is_unpolarized(accel: AccelKind) {
 }
 
 fn direct_view_of_a_polarizer_shows_its_axis(accel: AccelKind) {
+    for model in MODELS {
+        direct_view_of_a_polarizer_shows_its_axis_in(accel, model);
+    }
+}
+
+fn direct_view_of_a_polarizer_shows_its_axis_in(accel: AccelKind, model: CoherenceModel) {
     // Camera right is world +x, image up world +y: a polarizer along
     // (1, 1, 0) is at +45° from image right toward image up (S2 > 0), and
     // passes half of the light (Malus, averaged over unpolarized input).
     let (scene, _d) = scene(&direct_view("{ linear = [1.0, 1.0, 0.0] }"), &[]);
-    let (film, _) = render_with(&scene, &[580.0], accel);
+    let (film, _) = render_model(&scene, &[580.0], accel, model);
     // Each pixel is fully polarized. Its frame follows its own rays (x is
     // image right made transverse to the ray), so off-axis pixels see the
     // axis a little away from 45°, and samples within a pixel differ by a
@@ -81,13 +99,19 @@ fn direct_view_of_a_polarizer_shows_its_axis(accel: AccelKind) {
     );
     // Along x: horizontal, S1 > 0, azimuth 0.
     let (scene2, _d2) = common::scene(&direct_view("{ linear = [1.0, 0.0, 0.0] }"), &[]);
-    let (film, _) = render_with(&scene2, &[580.0], accel);
+    let (film, _) = render_model(&scene2, &[580.0], accel, model);
     let (_, psi, _) = polarimetry(mean_stokes(&film, 3, 5, 3, 5, 0));
     assert!(psi.abs() < 0.05, "azimuth {psi}");
 }
 
 /// A thick glass plate seen at Brewster's angle, reflecting a light.
 fn glass_at_brewsters_angle_reflects_s_polarized_light(accel: AccelKind) {
+    for model in MODELS {
+        glass_at_brewsters_angle_reflects_s_polarized_light_in(accel, model);
+    }
+}
+
+fn glass_at_brewsters_angle_reflects_s_polarized_light_in(accel: AccelKind, model: CoherenceModel) {
     let n: f64 = 1.5;
     let theta = n.atan(); // Brewster's angle from air
     let (s, c) = theta.sin_cos();
@@ -122,7 +146,7 @@ radiance = 1.0
     );
     let plate = box_obj([-20.0, -20.0, -1.0], [20.0, 20.0, 0.0]);
     let (scene, _d) = scene(&toml, &[("plate.obj", plate)]);
-    let (film, stats) = render_with(&scene, &[580.0], accel);
+    let (film, stats) = render_model(&scene, &[580.0], accel, model);
     assert_eq!(stats.lost, 0);
     let st = mean_stokes(&film, 0, 6, 0, 6, 0);
     let (p, psi, _) = polarimetry(st);
@@ -153,6 +177,15 @@ radiance = 1.0
 /// images, displaced by d·tan ρ = 0.1091 d (ρ the walk-off, docs/physics.md §8.3),
 /// each fully polarized, the polarizations orthogonal.
 fn calcite_slab_doubles_a_line_with_the_walk_off_displacement(accel: AccelKind) {
+    for model in MODELS {
+        calcite_slab_doubles_a_line_with_the_walk_off_displacement_in(accel, model);
+    }
+}
+
+fn calcite_slab_doubles_a_line_with_the_walk_off_displacement_in(
+    accel: AccelKind,
+    model: CoherenceModel,
+) {
     let d = 1.0;
     let toml = r#"
 [camera]
@@ -180,7 +213,7 @@ radiance = 1.0
     // 0.005 units per row.
     let slab = box_obj([-10.0, -10.0, -d], [10.0, 10.0, 0.0]);
     let (scene, _dir) = scene(toml, &[("slab.obj", slab)]);
-    let (film, _) = render_with(&scene, &[589.3], accel);
+    let (film, _) = render_model(&scene, &[589.3], accel, model);
     let rows: Vec<[f64; 4]> = (0..120)
         .map(|y| mean_stokes(&film, 0, 8, y, y + 1, 0))
         .collect();
@@ -249,6 +282,12 @@ radiance = 1.0
 /// reflections turn light linear at 45° to the plane of incidence into
 /// circular light (docs/physics.md §8.2).
 fn fresnel_rhomb_makes_circular_light(accel: AccelKind) {
+    for model in MODELS {
+        fresnel_rhomb_makes_circular_light_in(accel, model);
+    }
+}
+
+fn fresnel_rhomb_makes_circular_light_in(accel: AccelKind, model: CoherenceModel) {
     let theta = 54.6f64.to_radians();
     // Cross-section in the x–z plane: a parallelogram whose long faces are
     // horizontal (z = 0 and z = h) and whose end faces make angle θ with
@@ -329,7 +368,7 @@ polarization = {{ linear = {pol} }}
     );
     let rhomb = prism_obj(&poly, -1.0, 1.0);
     let (scene, _d) = scene(&toml, &[("rhomb.obj", rhomb)]);
-    let (film, stats) = render_with(&scene, &[589.3], accel);
+    let (film, stats) = render_model(&scene, &[589.3], accel, model);
     assert_eq!(stats.lost, 0);
     let s = mean_stokes(&film, 0, 4, 0, 4, 0);
     assert!(s[0] > 0.0, "the camera sees the light through the rhomb");

@@ -156,3 +156,17 @@ pub fn prism_obj(polygon_xz: &[[f64; 2]], y0: f64, y1: f64) -> String {
     }
     s
 }
+
+/// Renders at the given wavelengths through `accel` with the paths of a
+/// sample combined as `model` says (docs/physics.md §9).
+#[allow(dead_code)] // in the crates that do not use it
+pub fn render_model(
+    scene: &Scene,
+    lambdas: &[f64],
+    accel: AccelKind,
+    model: spar::render::approx::CoherenceModel,
+) -> (Film, Stats) {
+    let mut scene = scene.clone();
+    scene.settings.approx.strategy.coherence = model;
+    render_with(&scene, lambdas, accel)
+}
