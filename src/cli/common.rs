@@ -6,30 +6,143 @@ use super::error::CliError;
 use crate::farm::progress::Reporter;
 use crate::image::{Image, PixelType, WriteOptions};
 use crate::render::film::Film;
-use crate::render::output::{develop, OutputMode};
+use crate::render::output::{develop, develop_files, OutputMode, Storage};
 use crate::scene::{builtin, Scene};
 use crate::spectrum::WavelengthSet;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 
-/// The output path of `mode` when `modes` are rendered together.
-pub fn output_path(output: &Path, mode: OutputMode, several: bool) -> PathBuf {
+/// One file a mode writes: its path, how it holds its values, and which
+/// of the mode's images ([`OutputMode::parts`]) it is.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModeFile {
+    pub mode: OutputMode,
+    pub path: PathBuf,
+    pub storage: Storage,
+    pub part: usize,
+}
+
+/// The files `modes` write for `-o output` (`None`: `spar`), checked
+/// before any work: exit status 2 for a name the modes cannot be written
+/// as, naming the name to use.
+///
+/// - One mode: the name as given, if its extension fits the mode
+///   ([`OutputMode::storage`]); no extension: the mode's own
+///   ([`OutputMode::extension`]); `polcam` appends `-000` … `-135`.
+/// - Several modes: the mode's name is appended to the stem
+///   (`out-color.png`, `out-polcam-045.exr`); the name's extension is
+///   each mode's format where it fits that mode and the mode's own where
+///   it does not (`-o out.png --mode color,stokes` writes `out-color.png`
+///   and `out-stokes.exr`), but it must fit at least one of them.
+pub fn mode_files(output: Option<&Path>, modes: &[OutputMode]) -> Result<Vec<ModeFile>, CliError> {
+    let output = output.unwrap_or(Path::new("spar"));
     let stem = output
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "spar".into());
-    let name = if several {
-        format!("{stem}-{}.{}", mode.name(), mode.extension())
-    } else if mode.extension() == "png" && output.extension().is_some() {
-        output
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default()
-    } else {
-        format!("{stem}.{}", mode.extension())
+    let ext = output.extension().map(|e| e.to_string_lossy().into_owned());
+    let several = modes.len() > 1;
+    if let (Some(ext), true) = (&ext, several) {
+        if modes.iter().all(|m| m.storage(ext).is_none()) {
+            return Err(CliError::input(format!(
+                "{}: none of the modes {} writes .{ext} files (give -o {} to have each mode's \
+                 own)",
+                output.display(),
+                modes.iter().map(|m| m.name()).collect::<Vec<_>>().join(","),
+                output.with_file_name(&stem).display()
+            )));
+        }
+    }
+    let mut files = Vec::new();
+    for &mode in modes {
+        let (ext, storage) = match ext.as_deref().map(|e| (e, mode.storage(e))) {
+            Some((e, Some(storage))) => (e.to_string(), storage),
+            Some((e, None)) if !several => {
+                let fit = output.with_extension(mode.extension());
+                return Err(CliError::input(format!(
+                    "{}: the {} mode {}, not a .{e} file: use -o {}",
+                    output.display(),
+                    mode.name(),
+                    writes(mode),
+                    fit.display()
+                )));
+            }
+            _ => {
+                let e = mode.extension();
+                (
+                    e.to_string(),
+                    mode.storage(e).expect("a mode's own extension fits"),
+                )
+            }
+        };
+        for (part, suffix) in mode.parts().iter().enumerate() {
+            let mut name = stem.clone();
+            if several {
+                name = format!("{name}-{}", mode.name());
+            }
+            if !suffix.is_empty() {
+                name = format!("{name}-{suffix}");
+            }
+            files.push(ModeFile {
+                mode,
+                path: output.with_file_name(format!("{name}.{ext}")),
+                storage,
+                part,
+            });
+        }
+    }
+    Ok(files)
+}
+
+/// What a mode writes, for a refused output name.
+fn writes(mode: OutputMode) -> String {
+    let list = |e: Vec<&str>| {
+        e.iter()
+            .map(|e| format!(".{e}"))
+            .collect::<Vec<_>>()
+            .join(", ")
     };
-    output.with_file_name(name)
+    match mode {
+        OutputMode::Stokes => "writes float Stokes values, an OpenEXR file (.exr)".into(),
+        m if m.is_polcam() => format!(
+            "writes linear float intensities (.exr) or a display image ({})",
+            list(m.extensions().into_iter().filter(|&e| e != "exr").collect())
+        ),
+        m => format!(
+            "writes a display image ({}; for values as floats, --mode stokes or polcam to .exr)",
+            list(m.extensions())
+        ),
+    }
+}
+
+/// What `--wavelength` does for `modes`: the modes as traced (stokes
+/// becomes mono's one wavelength when `--wavelength` is given) and the
+/// Stokes EXR's wavelength. A `--wavelength` no mode uses (color alone)
+/// is refused (exit status 2) rather than ignored.
+pub fn wavelength_use(
+    wavelength: Option<f64>,
+    modes: &[OutputMode],
+) -> Result<(Vec<OutputMode>, Option<f64>), CliError> {
+    let Some(nm) = wavelength else {
+        return Ok((modes.to_vec(), None));
+    };
+    if modes.iter().all(|&m| m == OutputMode::Color) {
+        return Err(CliError::input(format!(
+            "--wavelength {nm}: the color mode uses the scene's wavelengths (render.wavelengths, \
+             --wavelengths), not --wavelength; it sets the wavelength of mono, dop, ellipticity, \
+             ellipticity-paper, azimuth, polcam, polcam-mosaic and stokes"
+        )));
+    }
+    let stokes = modes.contains(&OutputMode::Stokes).then_some(nm);
+    let traced = modes
+        .iter()
+        .map(|&m| match m {
+            OutputMode::Stokes => OutputMode::Mono,
+            m => m,
+        })
+        .collect();
+    Ok((traced, stokes))
 }
 
 /// Refuses rendered values that are not finite (no NaN pixel is ever
@@ -157,35 +270,72 @@ pub fn develop_image(
     develop(film, mode, colour, mono_nm).map_err(CliError::input)
 }
 
-/// Develops `film` in each mode and writes the images (the one code path
-/// of `spar render` and `spar develop`). `metadata` goes into every file,
-/// with `spar:mode`.
+/// Develops `film` into each of `files` ([`mode_files`]) and writes them
+/// (the one code path of `spar render` and `spar develop`). `stokes_nm`
+/// puts only that wavelength into the Stokes EXR (`--wavelength` with the
+/// stokes mode; the film must hold it). `metadata` goes into every file,
+/// with `spar:mode`, and `spar:wavelengths_nm` (the Stokes EXR's
+/// wavelengths) or `spar:wavelength_nm` (a polarization camera's).
 #[allow(clippy::too_many_arguments)]
 pub fn write_modes(
     film: &Film,
-    modes: &[OutputMode],
+    files: &[ModeFile],
     colour: &WavelengthSet,
     mono_nm: f64,
-    output: &Path,
+    stokes_nm: Option<f64>,
     metadata: &[(String, String)],
     quiet: bool,
     reporter: &Reporter,
 ) -> Result<(), CliError> {
-    for &m in modes {
-        let path = output_path(output, m, modes.len() > 1);
-        let mut image = develop_image(film, m, colour, mono_nm)?;
+    let one;
+    let stokes_film = match stokes_nm {
+        Some(nm) => {
+            one = film.only(nm).ok_or_else(|| {
+                CliError::input(format!(
+                    "--wavelength {nm}: the stokes mode's wavelength was not traced (the film \
+                     holds {:?} nm)",
+                    film.lambdas
+                ))
+            })?;
+            &one
+        }
+        None => film,
+    };
+    // A mode's images, developed once for all its files.
+    let mut developed: Option<(OutputMode, Vec<Image>)> = None;
+    for f in files {
+        if developed.as_ref().is_none_or(|(m, _)| *m != f.mode) {
+            let film = match f.mode {
+                OutputMode::Stokes => stokes_film,
+                _ => film,
+            };
+            let images =
+                develop_files(film, f.mode, colour, mono_nm, f.storage).map_err(CliError::input)?;
+            developed = Some((f.mode, images));
+        }
+        let mut image = developed.as_ref().expect("developed above").1[f.part].clone();
         for (k, v) in metadata {
             image = image.with_metadata(k.clone(), v.clone());
         }
-        let image = image.with_metadata("spar:mode", m.name());
-        let options = match m {
-            OutputMode::Stokes => WriteOptions::new(PixelType::F32),
-            _ => WriteOptions::new(PixelType::U8),
+        image = image.with_metadata("spar:mode", f.mode.name());
+        match f.mode {
+            OutputMode::Stokes => {
+                let nms: Vec<String> = stokes_film.lambdas.iter().map(|l| l.to_string()).collect();
+                image = image.with_metadata("spar:wavelengths_nm", nms.join(","));
+            }
+            m if m.is_polcam() => {
+                image = image.with_metadata("spar:wavelength_nm", mono_nm.to_string());
+            }
+            _ => {}
+        }
+        let options = match f.storage {
+            Storage::Float => WriteOptions::new(PixelType::F32),
+            Storage::Display => WriteOptions::new(PixelType::U8),
         };
-        crate::image::write(&path, &image, options)?;
-        reporter.event("wrote", &path.display().to_string());
+        crate::image::write(&f.path, &image, options)?;
+        reporter.event("wrote", &f.path.display().to_string());
         if !quiet && !reporter.prints_lines() {
-            eprintln!("wrote {}", path.display());
+            eprintln!("wrote {}", f.path.display());
         }
     }
     Ok(())

@@ -212,6 +212,13 @@ pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
     if modes.is_empty() {
         return Err(CliError::input("--mode needs at least one mode"));
     }
+    if let Some(m) = modes.iter().find(|m| m.is_polcam()) {
+        return Err(CliError::input(format!(
+            "--mode {}: spar compare does not compare the polarization camera's images; compare \
+             stokes (their S0, S1, S2) instead",
+            m.name()
+        )));
+    }
     let several = modes.len() > 1;
     for &m in &modes {
         check_output(&diff_path(&args.output, m, several))?;

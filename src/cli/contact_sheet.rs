@@ -55,6 +55,13 @@ pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
             "the stokes mode is data (EXR), not a picture: leave it out of a contact sheet",
         ));
     }
+    if let Some(m) = args.mode.iter().find(|m| m.is_polcam()) {
+        return Err(CliError::input(format!(
+            "the {} mode is a polarization camera's raw images, not a panel: render it with \
+             spar render",
+            m.name()
+        )));
+    }
     check_wavelength(args.wavelength)?;
     let accel = args.accel.kind(None)?;
     // The panels' labels are drawn by OpenImageIO: refuse before rendering.
@@ -104,7 +111,9 @@ pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
             OutputMode::Ellipticity => format!("b/a {:.0} nm", args.wavelength),
             OutputMode::EllipticityPaper => format!("E paper {:.0} nm", args.wavelength),
             OutputMode::Azimuth => format!("azimuth {:.0} nm", args.wavelength),
-            OutputMode::Stokes => unreachable!("refused above"),
+            OutputMode::Stokes | OutputMode::Polcam | OutputMode::PolcamMosaic => {
+                unreachable!("refused above")
+            }
         };
         labels.push(((GAP + c * cell_w) as i32 + 2, baseline(0), label));
     }

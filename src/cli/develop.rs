@@ -2,7 +2,9 @@
 //! EXR) from a complete raw render — what `spar merge` or `spar render
 //! --raw` wrote — through the same code as `spar render`.
 
-use super::common::{check_memory, check_output, output_path, write_modes};
+use super::common::{
+    check_memory, check_output, check_wavelength, mode_files, wavelength_use, write_modes,
+};
 use super::error::CliError;
 use crate::farm::part::{load_film, read_part};
 use crate::farm::progress::{ProgressMode, Reporter};
@@ -17,11 +19,14 @@ pub struct DevelopArgs {
     /// must hold their wavelengths.
     #[arg(long, short, value_delimiter = ',', default_value = "color")]
     pub mode: Vec<OutputMode>,
-    /// Output file; with several modes each mode's name is appended.
-    #[arg(long, short, default_value = "spar.png")]
-    pub output: PathBuf,
+    /// Output file (default: spar, with each mode's own extension); its
+    /// extension must fit the mode, as for `spar render`; with several
+    /// modes each mode's name is appended.
+    #[arg(long, short)]
+    pub output: Option<PathBuf>,
     /// Wavelength of the single-wavelength modes, nm (default: the
-    /// render's).
+    /// render's). Given with stokes, the Stokes EXR holds this wavelength
+    /// only (the raw file must hold it). Refused with color alone.
     #[arg(long)]
     pub wavelength: Option<f64>,
     /// Progress lines: auto, log, plain, openjd, none (events only: log and
@@ -39,8 +44,13 @@ pub fn run(args: &DevelopArgs) -> Result<(), CliError> {
     if modes.is_empty() {
         return Err(CliError::input("--mode needs at least one mode"));
     }
-    for &m in &modes {
-        check_output(&output_path(&args.output, m, modes.len() > 1))?;
+    if let Some(nm) = args.wavelength {
+        check_wavelength(nm)?;
+    }
+    let (_, stokes_nm) = wavelength_use(args.wavelength, &modes)?;
+    let files = mode_files(args.output.as_deref(), &modes)?;
+    for f in &files {
+        check_output(&f.path)?;
     }
     let part = read_part(&args.raw)?;
     // The film and each developed image are copies of about the raw size.
@@ -61,10 +71,10 @@ pub fn run(args: &DevelopArgs) -> Result<(), CliError> {
     });
     write_modes(
         &dev.film,
-        &modes,
+        &files,
         &dev.color,
         mono,
-        &args.output,
+        stokes_nm,
         &dev.metadata,
         args.quiet,
         &reporter,

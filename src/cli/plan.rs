@@ -2,7 +2,7 @@
 //! the scene as N tiles on a farm and merges them (docs/farm.md).
 
 use super::args::{check_isa, AccelArgs, SamplesArg, SceneOverrides};
-use super::common::check_wavelength;
+use super::common::{check_wavelength, mode_files, wavelength_use};
 use super::error::CliError;
 use crate::farm::plan::Plan;
 use crate::render::output::OutputMode;
@@ -30,12 +30,15 @@ pub struct PlanArgs {
     /// Camera modes of the final images (and so the wavelengths traced).
     #[arg(long, short, value_delimiter = ',', default_value = "color")]
     pub mode: Vec<OutputMode>,
-    /// Wavelength of the single-wavelength modes, nm.
-    #[arg(long, default_value_t = 580.0)]
-    pub wavelength: f64,
-    /// Name of the final image in the output directory.
-    #[arg(long, default_value = "image.png")]
-    pub image: String,
+    /// Wavelength of the single-wavelength modes, nm (default 580; as
+    /// `spar render --wavelength`, passed on only when given).
+    #[arg(long)]
+    pub wavelength: Option<f64>,
+    /// Name of the final image in the output directory (default: image.png,
+    /// or image.exr for the stokes mode alone); its extension must fit the
+    /// modes, as for `spar render -o`.
+    #[arg(long)]
+    pub image: Option<String>,
     #[command(flatten)]
     pub overrides: SceneOverrides,
     /// Pin Embree's instruction set on every machine (sse2, sse4.2, avx,
@@ -83,12 +86,21 @@ pub fn run(args: &PlanArgs, out: &mut dyn Write) -> Result<(), CliError> {
     if modes.is_empty() {
         return Err(CliError::input("--mode needs at least one mode"));
     }
-    check_wavelength(args.wavelength)?;
+    if let Some(nm) = args.wavelength {
+        check_wavelength(nm)?;
+    }
+    wavelength_use(args.wavelength, &modes)?;
+    let image = match &args.image {
+        Some(i) => i.clone(),
+        None if modes.len() == 1 => format!("image.{}", modes[0].extension()),
+        None => "image.png".into(),
+    };
     region::split(scene.camera.width, scene.camera.height, args.tiles)
         .map_err(|e| CliError::input(format!("--tiles {}: {e}", args.tiles)))?;
-    if args.image.is_empty() || args.image.contains('/') {
+    if image.is_empty() || image.contains('/') {
         return Err(CliError::input("--image is a file name inside --out-dir"));
     }
+    mode_files(Some(Path::new(&image)), &modes)?;
     let spar = match &args.spar {
         Some(p) => absolute(p)?,
         None => std::env::current_exe()
@@ -99,19 +111,19 @@ pub fn run(args: &PlanArgs, out: &mut dyn Write) -> Result<(), CliError> {
     let mode_list = modes.iter().map(|m| m.name()).collect::<Vec<_>>().join(",");
     let mut render_args = args.overrides.to_args();
     render_args.extend(["--mode".into(), mode_list.clone()]);
-    render_args.extend(["--wavelength".into(), format!("{:?}", args.wavelength)]);
+    if let Some(nm) = args.wavelength {
+        render_args.extend(["--wavelength".into(), format!("{nm:?}")]);
+    }
     if let Some(isa) = &args.isa {
         render_args.extend(["--isa".into(), isa.clone()]);
     }
     if let Some(kind) = args.accel.accel {
         render_args.extend(["--accel".into(), kind.name().into()]);
     }
-    let develop_args = vec![
-        "--mode".into(),
-        mode_list,
-        "--wavelength".into(),
-        format!("{:?}", args.wavelength),
-    ];
+    let mut develop_args = vec!["--mode".into(), mode_list];
+    if let Some(nm) = args.wavelength {
+        develop_args.extend(["--wavelength".into(), format!("{nm:?}")]);
+    }
     let plan = Plan {
         spar: &spar,
         scene: &scene_path,
@@ -122,7 +134,7 @@ pub fn run(args: &PlanArgs, out: &mut dyn Write) -> Result<(), CliError> {
         threads: args.threads,
         partition: args.partition.clone(),
         time: args.time.clone(),
-        image: args.image.clone(),
+        image: image.clone(),
     };
     let text = if args.slurm {
         plan.slurm()

@@ -6,7 +6,7 @@
 use super::args::{check_isa, AccelArgs, FarmArgs, SceneOverrides};
 use super::common::{
     check_film_memory, check_finite, check_output, check_threads, check_wavelength, load_scene,
-    output_path, thread_pool, write_modes, Signals,
+    mode_files, thread_pool, wavelength_use, write_modes, ModeFile, Signals,
 };
 use super::error::CliError;
 use crate::accel::AccelKind;
@@ -34,19 +34,27 @@ pub struct RenderArgs {
     /// gem over a textured light.
     pub scene: Option<PathBuf>,
     /// Camera modes, comma-separated: color, mono, dop, ellipticity,
-    /// ellipticity-paper, azimuth, stokes. With a raw output they choose
+    /// ellipticity-paper, azimuth, stokes, polcam (four images behind
+    /// polarizers at 0, 45, 90, 135 degrees), polcam-mosaic (them as a
+    /// polarization sensor's 2x2 mosaic). With a raw output they choose
     /// the wavelengths traced.
     #[arg(long, short, value_delimiter = ',', default_value = "color")]
     pub mode: Vec<OutputMode>,
-    /// Output file. With several modes, each mode's name is appended to its
-    /// stem (spar-color.png, spar-dop.png, spar-stokes.exr). A raw output
-    /// is one .exr file.
-    #[arg(long, short, default_value = "spar.png")]
-    pub output: PathBuf,
+    /// Output file (default: spar, with each mode's own extension). Its
+    /// extension must fit the mode: .exr for stokes; .png (.tif, .jpg with
+    /// OpenImageIO) for display images; .exr (floats) or .png for polcam
+    /// and polcam-mosaic. polcam appends -000, -045, -090, -135. With
+    /// several modes, each mode's name is appended to the stem
+    /// (spar-color.png, spar-stokes.exr) and the extension is used by the
+    /// modes it fits. A raw output is one .exr file.
+    #[arg(long, short)]
+    pub output: Option<PathBuf>,
     /// Wavelength of the single-wavelength modes (mono, dop, ellipticity,
-    /// azimuth), nm.
-    #[arg(long, default_value_t = 580.0)]
-    pub wavelength: f64,
+    /// ellipticity-paper, azimuth, polcam, polcam-mosaic), nm; default
+    /// 580. Given with stokes, the Stokes EXR holds this wavelength only.
+    /// Refused when no mode asked for uses it (color alone).
+    #[arg(long)]
+    pub wavelength: Option<f64>,
     #[command(flatten)]
     pub overrides: SceneOverrides,
     #[command(flatten)]
@@ -142,13 +150,26 @@ fn film_what(
     format!("{size}{part} with {lambdas}")
 }
 
+/// `--wavelength`'s default, nm.
+pub const DEFAULT_WAVELENGTH: f64 = 580.0;
+
 /// What `spar render`'s flags ask for, checked before any work starts.
 struct Job {
     scene: Scene,
     /// The scene as messages and metadata name it.
     label: String,
-    /// The modes asked for, repeats removed.
-    modes: Vec<OutputMode>,
+    /// The modes asked for (repeats removed) as the tracer sees them:
+    /// stokes at one wavelength (`--wavelength` given) traces what mono
+    /// traces.
+    traced: Vec<OutputMode>,
+    /// The single-wavelength modes' wavelength, nm.
+    mono_nm: f64,
+    /// The Stokes EXR's one wavelength, if `--wavelength` chose it.
+    stokes_nm: Option<f64>,
+    /// The files the modes write (empty for a raw output).
+    files: Vec<ModeFile>,
+    /// The raw output's path (with images, the first file's).
+    output: PathBuf,
     accel: AccelKind,
     /// The pixels and samples to render.
     spec: PartSpec,
@@ -159,7 +180,7 @@ struct Job {
 pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let started = Instant::now();
     let job = checked_job(args)?;
-    let lambdas = prepare::lambdas(&job.scene, &job.modes, args.wavelength);
+    let lambdas = prepare::lambdas(&job.scene, &job.traced, job.mono_nm);
     let info = render_info(args, &job, lambdas.clone());
     let progress_mode = if args.quiet {
         ProgressMode::None
@@ -167,14 +188,9 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         args.farm.progress
     };
     let reporter = Reporter::new(progress_mode);
-    let options = prepare::options(
-        &job.scene,
-        &job.modes,
-        args.wavelength,
-        reporter.wants_bar(),
-    );
+    let options = prepare::options(&job.scene, &job.traced, job.mono_nm, reporter.wants_bar());
     debug_assert_eq!(options.lambdas, lambdas);
-    let ckpt = Checkpoint::new(args, &info, &job.spec, &options);
+    let ckpt = Checkpoint::new(args, &job, &info, &options);
     let resume = ckpt.resume(args, &reporter)?;
     let done = render(args, &job, &options, &ckpt, resume, &reporter)?;
     write_outputs(args, &job, &info, done.part, &reporter)?;
@@ -205,7 +221,9 @@ fn checked_job(args: &RenderArgs) -> Result<Job, CliError> {
     }
     let mut scene = load_scene(args.scene.as_deref())?;
     let block = args.overrides.apply_with_block(&mut scene)?;
-    check_wavelength(args.wavelength)?;
+    if let Some(nm) = args.wavelength {
+        check_wavelength(nm)?;
+    }
     if args.mode.contains(&OutputMode::Color) {
         crate::spectrum::Observer::new(&scene.settings.wavelengths)
             .map_err(|e| CliError::input(format!("wavelengths for the color mode: {e}")))?;
@@ -215,6 +233,8 @@ fn checked_job(args: &RenderArgs) -> Result<Job, CliError> {
     if modes.is_empty() {
         return Err(CliError::input("--mode needs at least one mode"));
     }
+    let (traced, stokes_nm) = wavelength_use(args.wavelength, &modes)?;
+    let mono_nm = args.wavelength.unwrap_or(DEFAULT_WAVELENGTH);
     let farm = &args.farm;
     if let Some(isa) = &farm.isa {
         check_isa(isa)?;
@@ -225,19 +245,19 @@ fn checked_job(args: &RenderArgs) -> Result<Job, CliError> {
     let spec = PartSpec { region, samples };
     check_film_memory(
         spec.region.area() as u64,
-        prepare::lambdas(&scene, &modes, args.wavelength).len(),
+        prepare::lambdas(&scene, &traced, mono_nm).len(),
         spec.samples.nodes().len(),
         &film_what(
             &scene,
             args.scene.as_deref(),
             &args.overrides,
             spec.region,
-            &modes,
-            args.wavelength,
+            &traced,
+            mono_nm,
         ),
     )?;
     let raw = farm.raw || farm.region.is_some() || farm.tile.is_some() || block.is_some();
-    check_outputs(args, raw, &modes)?;
+    let (output, files) = check_outputs(args, raw, &modes)?;
     let label = args
         .scene
         .as_ref()
@@ -245,7 +265,11 @@ fn checked_job(args: &RenderArgs) -> Result<Job, CliError> {
     Ok(Job {
         scene,
         label,
-        modes,
+        traced,
+        mono_nm,
+        stokes_nm,
+        files,
+        output,
         accel,
         spec,
         raw,
@@ -272,25 +296,34 @@ fn region_of(farm: &FarmArgs, w: u32, h: u32) -> Result<Rect, CliError> {
 }
 
 /// Refuses to start a long render whose output cannot be written: a raw
-/// output must be an .exr, and every file's directory must exist.
-fn check_outputs(args: &RenderArgs, raw: bool, modes: &[OutputMode]) -> Result<(), CliError> {
+/// output must be an .exr, each mode's name must fit it ([`mode_files`]),
+/// and every file's directory must exist. Returns the raw output's path
+/// (`spar.exr` by default) and the modes' files (none for a raw output).
+fn check_outputs(
+    args: &RenderArgs,
+    raw: bool,
+    modes: &[OutputMode],
+) -> Result<(PathBuf, Vec<ModeFile>), CliError> {
     if raw {
-        if args
-            .output
+        let output = args.output.clone().unwrap_or_else(|| "spar.exr".into());
+        if output
             .extension()
             .is_none_or(|e| !e.eq_ignore_ascii_case("exr"))
         {
             return Err(CliError::input(format!(
                 "{}: a raw part (--region, --tile, --samples k0..k1, --raw) is an .exr file",
-                args.output.display()
+                output.display()
             )));
         }
-        check_output(&args.output)
+        check_output(&output)?;
+        Ok((output, Vec::new()))
     } else {
-        for &m in modes {
-            check_output(&output_path(&args.output, m, modes.len() > 1))?;
+        let files = mode_files(args.output.as_deref(), modes)?;
+        for f in &files {
+            check_output(&f.path)?;
         }
-        Ok(())
+        let output = files[0].path.clone();
+        Ok((output, files))
     }
 }
 
@@ -301,7 +334,7 @@ fn render_info(args: &RenderArgs, job: &Job, lambdas: Vec<f64>) -> RenderInfo {
         &job.scene,
         &job.label,
         lambdas,
-        args.wavelength,
+        job.mono_nm,
         args.farm.isa.as_deref(),
     );
     // Backends may hit different triangles at edges: parts of different
@@ -321,9 +354,12 @@ struct Checkpoint {
 }
 
 impl Checkpoint {
-    fn new(args: &RenderArgs, info: &RenderInfo, spec: &PartSpec, options: &RenderOptions) -> Self {
+    fn new(args: &RenderArgs, job: &Job, info: &RenderInfo, options: &RenderOptions) -> Self {
+        let spec = &job.spec;
         let path = args.farm.checkpoint.clone().unwrap_or_else(|| {
-            let mut name = args.output.as_os_str().to_owned();
+            // Named after -o as given (the first mode's file without it).
+            let output = args.output.as_ref().unwrap_or(&job.output);
+            let mut name = output.as_os_str().to_owned();
             name.push(".checkpoint");
             PathBuf::from(name)
         });
@@ -482,10 +518,10 @@ fn write_outputs(
         // The part's values are spar's own: an image of them that cannot
         // be made is its failure.
         let image = part_image(&part, info).map_err(CliError::internal)?;
-        crate::image::write(&args.output, &image, WriteOptions::new(PixelType::F32))?;
-        reporter.event("wrote", &args.output.display().to_string());
+        crate::image::write(&job.output, &image, WriteOptions::new(PixelType::F32))?;
+        reporter.event("wrote", &job.output.display().to_string());
         if !args.quiet && !reporter.prints_lines() {
-            eprintln!("wrote {}", args.output.display());
+            eprintln!("wrote {}", job.output.display());
         }
         return Ok(());
     }
@@ -498,10 +534,10 @@ fn write_outputs(
         .collect();
     write_modes(
         &film,
-        &job.modes,
+        &job.files,
         &job.scene.settings.wavelengths,
-        args.wavelength,
-        &args.output,
+        job.mono_nm,
+        job.stokes_nm,
         &metadata,
         args.quiet,
         reporter,

@@ -50,6 +50,19 @@ impl Film {
         s.map(|v| v as f64 / n)
     }
 
+    /// The film of wavelength `lambda_nm` alone, if traced.
+    pub fn only(&self, lambda_nm: f64) -> Option<Film> {
+        let i = self.lambda_index(lambda_nm)?;
+        let n = self.lambdas.len();
+        Some(Film {
+            width: self.width,
+            height: self.height,
+            lambdas: vec![self.lambdas[i]],
+            samples: self.samples,
+            data: self.data.iter().skip(i).step_by(n).copied().collect(),
+        })
+    }
+
     /// The mutable sums of one pixel, all wavelengths.
     #[inline]
     pub fn pixel_mut(&mut self, x: u32, y: u32) -> &mut [[f32; 4]] {

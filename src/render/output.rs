@@ -14,6 +14,18 @@
 //!   frame of [`super::camera`] (Mitsuba 3's: x image right, y image up,
 //!   looking back along the light; S1 > 0 horizontal, S2 > 0 at +45° from
 //!   right toward up, S3 > 0 right-handed as the receiver sees it).
+//! - `polcam`: a polarization camera: four images of the intensity behind
+//!   ideal linear polarizers at 0°, 45°, 90° and 135° from image right
+//!   toward image up (the Stokes frame's angles), at one wavelength:
+//!   I(θ) = ½(S0 + S1 cos 2θ + S2 sin 2θ) ([`polarizer`]).
+//! - `polcam-mosaic`: the same intensities as the 2×2 micro-polarizer
+//!   mosaic of a Sony IMX250MZR-type sensor, one image of the film's size
+//!   ([`MOSAIC`], [`mosaic_angle`]).
+//!
+//! Most modes have one storage; the polarization-camera modes are written
+//! as display images (sRGB-encoded I(θ)/D65(λ), as `mono`) or as linear
+//! float EXR (I(θ) in the Stokes EXR's units), chosen by the output file's
+//! extension ([`OutputMode::storage`], [`Storage`]).
 //!
 //! Grey maps are written as sRGB-encoded 8-bit PNGs; values are clamped to
 //! [0, 1] and NaN never reaches a pixel (the maps are NaN-free by
@@ -34,6 +46,56 @@ pub enum OutputMode {
     EllipticityPaper,
     Azimuth,
     Stokes,
+    Polcam,
+    PolcamMosaic,
+}
+
+/// How a mode's file holds its values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Storage {
+    /// A display image: values in [0, 1], sRGB-encoded, 8 bits.
+    Display,
+    /// Linear values as 32-bit floats (OpenEXR).
+    Float,
+}
+
+/// Extensions of display images: PNG in every build, TIFF and JPEG where
+/// OpenImageIO writes them (the `native` feature).
+pub const DISPLAY_EXTENSIONS: [&str; 5] = ["png", "tif", "tiff", "jpg", "jpeg"];
+
+/// The polarizer angles of `polcam`'s four images, degrees from image
+/// right toward image up, in the order of its files.
+pub const POLCAM_ANGLES: [u32; 4] = [0, 45, 90, 135];
+
+/// The polarizer angle of each pixel of a 2×2 block of `polcam-mosaic`,
+/// `MOSAIC[row][column]` with row 0 the block's top row as the image is
+/// displayed (image rows run down): 90° 45° over 135° 0°, the layout of
+/// Sony's IMX250MZR (as Morimatsu et al., ICIP 2020, and polanalyser's
+/// `IMX250MZR` demosaicing read it).
+pub const MOSAIC: [[u32; 2]; 2] = [[90, 45], [135, 0]];
+
+/// The polarizer angle of image pixel (x, y) (y counted down from the top
+/// row) in `polcam-mosaic`.
+pub fn mosaic_angle(x: u32, y: u32) -> u32 {
+    MOSAIC[(y % 2) as usize][(x % 2) as usize]
+}
+
+/// The intensity behind an ideal linear polarizer at `angle` degrees
+/// (one of [`POLCAM_ANGLES`]) from image right toward image up, of light
+/// with Stokes vector `s` in the film's frame: Malus's law,
+/// I(θ) = ½(S0 + S1 cos 2θ + S2 sin 2θ), with the cosines and sines of
+/// the four angles exact.
+pub fn polarizer(s: [f64; 4], angle: u32) -> f64 {
+    match angle {
+        0 => 0.5 * (s[0] + s[1]),
+        45 => 0.5 * (s[0] + s[2]),
+        90 => 0.5 * (s[0] - s[1]),
+        135 => 0.5 * (s[0] - s[2]),
+        _ => {
+            let t = 2.0 * (angle as f64).to_radians();
+            0.5 * (s[0] + s[1] * t.cos() + s[2] * t.sin())
+        }
+    }
 }
 
 impl OutputMode {
@@ -47,10 +109,14 @@ impl OutputMode {
             OutputMode::EllipticityPaper => "ellipticity-paper",
             OutputMode::Azimuth => "azimuth",
             OutputMode::Stokes => "stokes",
+            OutputMode::Polcam => "polcam",
+            OutputMode::PolcamMosaic => "polcam-mosaic",
         }
     }
 
-    /// File extension of the mode's output.
+    /// The extension of the mode's output when the output name has none
+    /// (and of its file among several modes whose name's extension does
+    /// not fit it).
     pub fn extension(self) -> &'static str {
         match self {
             OutputMode::Stokes => "exr",
@@ -58,10 +124,54 @@ impl OutputMode {
         }
     }
 
+    /// How a file of this mode named with extension `ext` holds its
+    /// values, or `None` if the mode cannot be written so: `stokes` is an
+    /// EXR only, the polarization-camera modes an EXR (float) or a display
+    /// image, the others display images only ([`DISPLAY_EXTENSIONS`]).
+    pub fn storage(self, ext: &str) -> Option<Storage> {
+        let ext = ext.to_ascii_lowercase();
+        let exr = ext == "exr";
+        let display = DISPLAY_EXTENSIONS.contains(&ext.as_str());
+        match self {
+            OutputMode::Stokes => exr.then_some(Storage::Float),
+            OutputMode::Polcam | OutputMode::PolcamMosaic if exr => Some(Storage::Float),
+            _ => display.then_some(Storage::Display),
+        }
+    }
+
+    /// The extensions [`Self::storage`] takes, for messages.
+    pub fn extensions(self) -> Vec<&'static str> {
+        let mut e = Vec::new();
+        if self.storage("exr").is_some() {
+            e.push("exr");
+        }
+        e.extend(
+            DISPLAY_EXTENSIONS
+                .iter()
+                .filter(|x| self.storage(x).is_some()),
+        );
+        e
+    }
+
+    /// The suffixes of the mode's files after the output's stem: one file
+    /// (no suffix) for every mode but `polcam`, whose four images are
+    /// `-000`, `-045`, `-090` and `-135` ([`POLCAM_ANGLES`]).
+    pub fn parts(self) -> &'static [&'static str] {
+        match self {
+            OutputMode::Polcam => &["000", "045", "090", "135"],
+            _ => &[""],
+        }
+    }
+
     /// True for modes that need the colour wavelength set (the others use
     /// one wavelength).
     pub fn is_spectral(self) -> bool {
         matches!(self, OutputMode::Color | OutputMode::Stokes)
+    }
+
+    /// True for the polarization-camera modes (`polcam`, `polcam-mosaic`).
+    pub fn is_polcam(self) -> bool {
+        matches!(self, OutputMode::Polcam | OutputMode::PolcamMosaic)
     }
 }
 
@@ -88,9 +198,72 @@ fn hue(h: f64) -> [f64; 3] {
     }
 }
 
+/// Develops a film into the files of `mode` stored as `storage`, one image
+/// per [`OutputMode::parts`] entry: [`develop`]'s image for one-file modes,
+/// `polcam`'s four, the polarization-camera images as display images or
+/// linear floats. `storage` must be one the mode has
+/// ([`OutputMode::storage`]).
+pub fn develop_files(
+    film: &Film,
+    mode: OutputMode,
+    colour: &WavelengthSet,
+    mono_nm: f64,
+    storage: Storage,
+) -> Result<Vec<Image>, String> {
+    match mode {
+        OutputMode::Polcam => POLCAM_ANGLES
+            .iter()
+            .map(|&a| polcam_image(film, mono_nm, storage, |_, _| a))
+            .collect(),
+        OutputMode::PolcamMosaic => Ok(vec![polcam_image(film, mono_nm, storage, mosaic_angle)?]),
+        _ => develop(film, mode, colour, mono_nm).map(|i| vec![i]),
+    }
+}
+
+/// The intensities behind the polarizer `angle(x, y)` gives each pixel, at
+/// `nm`, as one grey channel `Y`: I(θ) for [`Storage::Float`] (the Stokes
+/// EXR's units), sRGB-encoded I(θ)/D65(λ) clamped to [0, 1] for
+/// [`Storage::Display`] (as `mono` shows S0).
+fn polcam_image(
+    film: &Film,
+    nm: f64,
+    storage: Storage,
+    angle: impl Fn(u32, u32) -> u32,
+) -> Result<Image, String> {
+    let i = film
+        .lambda_index(nm)
+        .ok_or_else(|| format!("wavelength {nm} nm was not traced"))?;
+    let d65 = cie::d65(nm);
+    let mut out = Vec::with_capacity(film.width as usize * film.height as usize);
+    for y in 0..film.height {
+        for x in 0..film.width {
+            let v = polarizer(film.stokes(x, y, i), angle(x, y));
+            out.push(match storage {
+                Storage::Float => v as f32,
+                Storage::Display => {
+                    let e = srgb::encode((v / d65).max(0.0));
+                    if e.is_finite() {
+                        e.clamp(0.0, 1.0) as f32
+                    } else {
+                        0.0
+                    }
+                }
+            });
+        }
+    }
+    Image::new(
+        film.width as usize,
+        film.height as usize,
+        vec!["Y".into()],
+        out,
+    )
+    .map_err(|e| e.to_string())
+}
+
 /// Develops a film into the image of `mode`. `colour` is the wavelength set
 /// for `color` (its wavelengths must be in the film), `mono_nm` the
-/// wavelength of the single-wavelength maps.
+/// wavelength of the single-wavelength maps. `polcam`, four images, is
+/// [`develop_files`]'; `polcam-mosaic` is developed as a display image.
 pub fn develop(
     film: &Film,
     mode: OutputMode,
@@ -160,6 +333,11 @@ pub fn develop(
             }
             Image::from_planes(w as usize, h as usize, planes).map_err(|e| e.to_string())
         }
+        OutputMode::Polcam => Err(
+            "the polcam mode is four images (one per polarizer): develop them with develop_files"
+                .into(),
+        ),
+        OutputMode::PolcamMosaic => polcam_image(film, mono_nm, Storage::Display, mosaic_angle),
         _ => {
             let i = film
                 .lambda_index(mono_nm)
@@ -191,5 +369,60 @@ pub fn develop(
             }
             rgb_image(out)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_four_polarizers_are_malus_with_exact_angles() {
+        let s = [2.0, 0.3, -0.7, 0.4];
+        for a in POLCAM_ANGLES {
+            let t = 2.0 * (a as f64).to_radians();
+            let general = 0.5 * (s[0] + s[1] * t.cos() + s[2] * t.sin());
+            assert!((polarizer(s, a) - general).abs() < 1e-15, "{a}");
+        }
+        // S0 = I0 + I90, S1 = I0 − I90, S2 = I45 − I135 (to rounding).
+        let i = POLCAM_ANGLES.map(|a| polarizer(s, a));
+        let back = [i[0] + i[2], i[0] - i[2], i[1] - i[3]];
+        for (b, s) in back.iter().zip(&s[..3]) {
+            assert!((b - s).abs() < 1e-15, "{back:?}");
+        }
+        // Horizontal light passes 0° whole and 90° not at all.
+        assert_eq!(polarizer([1.0, 1.0, 0.0, 0.0], 0), 1.0);
+        assert_eq!(polarizer([1.0, 1.0, 0.0, 0.0], 90), 0.0);
+        assert_eq!(polarizer([1.0, 0.0, 0.0, 0.0], 22), 0.5);
+    }
+
+    #[test]
+    fn the_mosaic_repeats_90_45_over_135_0() {
+        let block: Vec<u32> = [(0, 0), (1, 0), (0, 1), (1, 1)]
+            .iter()
+            .map(|&(x, y)| mosaic_angle(x, y))
+            .collect();
+        assert_eq!(block, [90, 45, 135, 0]);
+        assert_eq!(mosaic_angle(6, 8), 90);
+        assert_eq!(mosaic_angle(7, 9), 0);
+    }
+
+    #[test]
+    fn each_mode_names_the_extensions_it_takes() {
+        use OutputMode::*;
+        assert_eq!(Stokes.storage("EXR"), Some(Storage::Float));
+        assert_eq!(Stokes.storage("png"), None);
+        assert_eq!(Polcam.storage("exr"), Some(Storage::Float));
+        assert_eq!(PolcamMosaic.storage("png"), Some(Storage::Display));
+        assert_eq!(Dop.storage("exr"), None);
+        assert_eq!(Color.storage("Tiff"), Some(Storage::Display));
+        assert_eq!(Color.storage("txt"), None);
+        assert_eq!(Stokes.extensions(), ["exr"]);
+        assert_eq!(Polcam.extensions()[..2], ["exr", "png"]);
+        assert_eq!(Mono.extensions()[0], "png");
+        for m in [Color, Mono, Dop, Stokes, Polcam, PolcamMosaic] {
+            assert!(m.storage(m.extension()).is_some(), "{m:?}");
+        }
+        assert_eq!(Polcam.parts().len(), 4);
     }
 }

@@ -12,6 +12,8 @@ mod cli_compare;
 mod cli_exit_status;
 mod cli_interface;
 mod cli_limits;
+mod cli_output_names;
+mod cli_polcam;
 mod cli_render_errors;
 mod cli_render_outputs;
 mod cli_speed_error;
