@@ -315,3 +315,41 @@ fn wavelength_is_used_by_stokes_and_refused_where_no_mode_uses_it() {
         assert!(err.contains(needle), "{args:?}: {err}");
     }
 }
+
+#[test]
+fn plan_names_the_image_by_the_same_rules() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("s.toml"), SCENE).unwrap();
+    let plan = |args: &[&str]| {
+        code_out_err(&spar(
+            d,
+            &[&["plan", "s.toml", "--tiles", "2", "--slurm"][..], args].concat(),
+        ))
+    };
+    // stokes alone develops image.exr, and --wavelength is passed on only
+    // when given.
+    let (code, script, err) = plan(&["--mode", "stokes"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        script.contains("image.exr") && !script.contains("--wavelength"),
+        "{script}"
+    );
+    let (code, script, err) = plan(&["--mode", "color,dop", "--wavelength", "600"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        script.contains("image.png") && script.contains("--wavelength 600.0"),
+        "{script}"
+    );
+    for (args, needle) in [
+        (vec!["--mode", "stokes", "--image", "x.png"], "x.exr"),
+        (
+            vec!["--mode", "color", "--wavelength", "600"],
+            "--wavelength 600",
+        ),
+    ] {
+        let (code, _, err) = plan(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+}
