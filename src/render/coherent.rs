@@ -21,8 +21,10 @@
 //! its ray walks off), `J_L` the light's coherence matrix at unit radiance
 //! scaled by the geometric mean of the two paths' radiances, and `γ_ij` the
 //! product of the light's spatial coherence (1 for a light at infinity:
-//! one direction is one plane wave; `2J₁(v)/v`, `v = π θ δ / λ`, for an area
-//! light of angular diameter θ and paths δ apart, van Cittert–Zernike) and
+//! one direction is one plane wave; for an area light, van Cittert–Zernike:
+//! the Fourier transform of its parallelogram seen from the path, `sinc(π
+//! δ·θ_u / λ) sinc(π δ·θ_v / λ)` for paths δ apart and its angular edge
+//! vectors θ_u, θ_v) and
 //! the band's temporal coherence (`sinc(π ΔL Δλ / λ²)` for a flat band Δλ
 //! wide). Groups are found by sorting, not by comparing every pair.
 
@@ -72,8 +74,10 @@ struct Leaf {
     point: DVec3,
     /// Face coordinates on an area light.
     st: (f64, f64),
-    /// Solid angle of an area light seen from `point`, sr.
-    solid_angle: f64,
+    /// An area light's edges `u`, `v` as seen from `point`: their parts
+    /// across `k` divided by the distance (the projected parallelogram's
+    /// angular edge vectors, radians).
+    extent: [DVec3; 2],
 }
 
 /// One backward ray of the coherent walk.
@@ -117,20 +121,10 @@ fn source_basis(k: DVec3, r: DVec3) -> [DVec3; 2] {
     [e1, k.cross(e1)]
 }
 
-/// `2 J₁(v) / v`, the degree of coherence of light from a uniform
-/// incoherent disc at points `v` apart in its reduced units (van
-/// Cittert–Zernike; Born & Wolf §10.4.2, eq. 10.4(29)).
-pub fn jinc(v: f64) -> f64 {
-    if v.abs() < 1e-8 {
-        1.0
-    } else {
-        2.0 * libm::j1(v) / v
-    }
-}
-
-/// `sin(x) / x`: the coherence of a flat band at a path difference that
-/// makes `x = π ΔL Δλ / λ²` (the Fourier transform of a rectangle;
-/// Born & Wolf §7.5.8).
+/// `sin(x) / x`, the Fourier transform of a rectangle: the coherence of a
+/// flat band at a path difference that makes `x = π ΔL Δλ / λ²` (Born &
+/// Wolf §7.5.8), and along each edge of a uniform rectangular source at a
+/// separation that makes `x = π δ θ / λ` (van Cittert–Zernike, B&W §10.4).
 pub fn sinc(x: f64) -> f64 {
     if x.abs() < 1e-8 {
         1.0
@@ -309,12 +303,11 @@ impl Tracer<'_> {
         let scene = self.scene;
         let k = -p.dir;
         let best = self.nearest_light(p.origin, p.dir, t_hit);
-        let (source, reference, st, solid_angle) = if let Some((t, i, s, tt)) = best {
+        let (source, reference, st, extent) = if let Some((t, i, s, tt)) = best {
             let light = &scene.lights[i];
-            let area = light.u.cross(light.v).length();
-            let cos = p.dir.dot(light.normal).abs();
-            let solid_angle = (area * cos / (t * t)).min(2.0 * std::f64::consts::PI);
-            (Source::Area(i as u32), light.u, (s, tt), solid_angle)
+            let across = |e: DVec3| (e - e.dot(k) * k) / t;
+            let extent = [across(light.u), across(light.v)];
+            (Source::Area(i as u32), light.u, (s, tt), extent)
         } else if t_hit.is_finite() {
             return false;
         } else if let Some(i) = scene
@@ -327,10 +320,10 @@ impl Tracer<'_> {
                 Source::Distant(i as u32),
                 l.direction.any_orthonormal_vector(),
                 (0.0, 0.0),
-                0.0,
+                [DVec3::ZERO; 2],
             )
         } else if scene.background > 0.0 || scene.environment.is_some() {
-            (Source::Background, DVec3::Z, (0.0, 0.0), 0.0)
+            (Source::Background, DVec3::Z, (0.0, 0.0), [DVec3::ZERO; 2])
         } else {
             return true;
         };
@@ -343,7 +336,7 @@ impl Tracer<'_> {
             k,
             point: p.anchor,
             st,
-            solid_angle,
+            extent,
         });
         true
     }
@@ -475,10 +468,12 @@ impl Tracer<'_> {
                     let dl = (li.opl - lj.opl) * unit;
                     let mut gamma = sinc(std::f64::consts::PI * dl * m.band_nm / (lambda * lambda));
                     if let Source::Area(_) = li.source {
+                        // van Cittert–Zernike for the light's projected
+                        // parallelogram (docs/physics.md §9.3).
                         let d = li.point - lj.point;
-                        let lateral = (d - d.dot(li.k) * li.k).length() * unit;
-                        let theta = 2.0 * (li.solid_angle / std::f64::consts::PI).sqrt();
-                        gamma *= jinc(std::f64::consts::PI * theta * lateral / lambda);
+                        let across = (d - d.dot(li.k) * li.k) * (unit / lambda);
+                        gamma *= sinc(std::f64::consts::PI * across.dot(li.extent[0]))
+                            * sinc(std::f64::consts::PI * across.dot(li.extent[1]));
                     }
                     if gamma == 0.0 {
                         continue;
