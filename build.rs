@@ -1,5 +1,5 @@
-//! Binary-level build work only: a version string, and an rpath for native
-//! libraries that spar-sys found outside the system directories.
+//! Binary-level build work only: a version string, and an rpath for the
+//! Embree that spar-sys found outside the system directories.
 
 use std::process::Command;
 
@@ -23,8 +23,10 @@ fn main() {
     println!("cargo:rerun-if-changed=.git/refs/heads");
 
     // spar-sys has `links = "embree3"`, so its `cargo:lib_dirs=` metadata
-    // arrives here as DEP_EMBREE3_LIB_DIRS. Libraries found in a non-system
-    // prefix (EMBREE_DIR, OIIO_DIR) get an rpath so the binary runs as built.
+    // arrives here as DEP_EMBREE3_LIB_DIRS: Embree's directories. Found in a
+    // non-system prefix (EMBREE_DIR) they get an rpath so the binary runs as
+    // built. OpenImageIO is not linked into spar: its rpath (OIIO_DIR) is in
+    // spar-sys's shim library, loaded at run time.
     if let Ok(dirs) = std::env::var("DEP_EMBREE3_LIB_DIRS") {
         for dir in dirs.split(':').filter(|d| !d.is_empty()) {
             let system = ["/usr/lib", "/lib", "/usr/lib64", "/lib64"]

@@ -28,7 +28,8 @@ const DEFAULT: &Backend = &oiio::BACKEND;
 #[cfg(not(feature = "native"))]
 const DEFAULT: &Backend = &crate::image::pure::BACKEND;
 
-/// OpenImageIO, through the shim in `spar-sys`.
+/// OpenImageIO, through the shim library of `spar-sys`, loaded by
+/// [`crate::native::oiio`] at the first read or write (not at start-up).
 #[cfg(feature = "native")]
 mod oiio {
     use crate::image::io::Backend;
@@ -37,6 +38,13 @@ mod oiio {
     use std::path::Path;
 
     pub const BACKEND: Backend = Backend { write, read };
+
+    fn cause(error: oiio::OiioError) -> Cause {
+        match error {
+            oiio::OiioError::Unavailable(e) => Cause::Unavailable(e),
+            oiio::OiioError::Failed(message) => Cause::Backend(message),
+        }
+    }
 
     fn write(
         path: &Path,
@@ -69,11 +77,11 @@ mod oiio {
             },
             metadata: &metadata,
         })
-        .map_err(|e| Cause::Backend(e.0))
+        .map_err(cause)
     }
 
     fn read(path: &Path) -> Result<Image, Cause> {
-        let raw = oiio::read(path).map_err(|e| Cause::Backend(e.0))?;
+        let raw = oiio::read(path).map_err(cause)?;
         let mut image = Image::new(raw.width, raw.height, raw.channel_names, raw.pixels)
             .map_err(|e| Cause::Backend(e.to_string()))?;
         image.alpha = if raw.unassociated_alpha {

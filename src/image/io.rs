@@ -193,7 +193,7 @@ pub fn draw_text(
     {
         let (w, h) = (image.width, image.height);
         crate::native::oiio::render_text(&mut image.data, w, h, x, y, text, font, size, colour)
-            .map_err(|e| ImageError::Invalid(e.0))
+            .map_err(|e| ImageError::Invalid(e.to_string()))
     }
     #[cfg(not(feature = "native"))]
     {

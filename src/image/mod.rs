@@ -14,6 +14,11 @@
 //! it refuses TIFF, JPEG and every other format with an error saying that
 //! they need the `native` feature, and [`draw_text`] is unavailable.
 //!
+//! OpenImageIO is not linked into spar: the first read or write through it
+//! loads spar's shim library (`libspar_oiio.so`; see `spar::native::oiio`
+//! for where it is looked for and `SPAR_OIIO_SHIM`). If it cannot be loaded
+//! that read or write fails with `Cause::Unavailable`.
+//!
 //! # Values, colour and alpha
 //! - Writing never changes colours: the [`Encoding`] in the options says
 //!   how the values already are encoded and is recorded in the file. For
@@ -185,6 +190,12 @@ pub enum Cause {
     /// NUL character in a name or value, inconsistent image).
     #[error("{0}")]
     Invalid(String),
+    /// OpenImageIO, which the file needs, cannot be loaded: spar's shim
+    /// library (`libspar_oiio.so`) is missing or from another build. The
+    /// error names each place it was looked for and `SPAR_OIIO_SHIM`.
+    #[cfg(feature = "native")]
+    #[error(transparent)]
+    Unavailable(crate::native::oiio::LoadError),
 }
 
 /// An image: named `f32` channels, interleaved, row-major, top row first.

@@ -279,6 +279,8 @@ std::unique_ptr<SparOiioImage> read_image(const char* path, std::string* error)
 
 extern "C" {
 
+int32_t spar_oiio_abi_version(void) { return SPAR_OIIO_ABI_VERSION; }
+
 char* spar_oiio_write(const SparOiioWriteRequest* request)
 {
     try {

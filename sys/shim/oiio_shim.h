@@ -2,6 +2,9 @@
  *
  * OpenImageIO is C++; this header is the small C surface that spar-sys
  * declares in `src/oiio.rs` and that `spar::native::oiio` wraps safely.
+ * The shim is built as its own shared library, `libspar_oiio.so`, linked
+ * against OpenImageIO; spar loads it with dlopen when it first needs it and
+ * looks each function up by name, so spar itself never links OpenImageIO.
  *
  * Conventions
  * - Pixels are 32-bit floats, interleaved (all channels of a pixel are
@@ -24,6 +27,22 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* The library is compiled with hidden visibility: only these functions are
+ * exported. */
+#if defined(__GNUC__)
+#define SPAR_OIIO_API __attribute__((visibility("default")))
+#else
+#define SPAR_OIIO_API
+#endif
+
+/* Version of this C ABI: raised whenever a function's signature or meaning
+ * changes, so that spar refuses a stale library found at run time (struct
+ * layouts are checked separately, through spar_oiio_abi_layout). */
+#define SPAR_OIIO_ABI_VERSION 1
+
+/* Returns SPAR_OIIO_ABI_VERSION as the library was compiled. */
+SPAR_OIIO_API int32_t spar_oiio_abi_version(void);
 
 /* Pixel types stored in the file (values of `SparOiioWriteRequest.pixel_type`).
  * The caller always passes floats; OpenImageIO converts them. For the
@@ -79,7 +98,7 @@ typedef struct SparOiioWriteRequest {
 
 /* Writes one image. EXR and TIFF are written with lossless "zip"
  * compression. Returns NULL on success, else an owned error message. */
-char* spar_oiio_write(const SparOiioWriteRequest* request);
+SPAR_OIIO_API char* spar_oiio_write(const SparOiioWriteRequest* request);
 
 /* An image read by `spar_oiio_read`; owned by the caller, released with
  * `spar_oiio_image_free`. */
@@ -113,16 +132,17 @@ typedef struct SparOiioImageView {
  * samples (EXR, float TIFF) and files that declare nothing (untagged TIFF)
  * are returned as stored. Returns NULL and stores an owned message in
  * *error on failure; *error is set to NULL on success. */
-SparOiioImage* spar_oiio_read(const char* path, char** error);
+SPAR_OIIO_API SparOiioImage* spar_oiio_read(const char* path, char** error);
 
 /* Fills *view from an image. */
-void spar_oiio_image_view(const SparOiioImage* image, SparOiioImageView* view);
+SPAR_OIIO_API void spar_oiio_image_view(const SparOiioImage* image,
+                                        SparOiioImageView* view);
 
 /* Releases an image (NULL is allowed). */
-void spar_oiio_image_free(SparOiioImage* image);
+SPAR_OIIO_API void spar_oiio_image_free(SparOiioImage* image);
 
 /* Releases an error message (NULL is allowed). */
-void spar_oiio_string_free(char* message);
+SPAR_OIIO_API void spar_oiio_string_free(char* message);
 
 /* Draws `text` into a float image in place (width * height * nchannels
  * values, interleaved, top row first), its baseline starting at pixel
@@ -130,15 +150,16 @@ void spar_oiio_string_free(char* message);
  * found through the system's font directories, or a path to a font file)
  * and `colour` (nchannels floats). Returns NULL on success, else an owned
  * message (for example when the font cannot be found). */
-char* spar_oiio_render_text(float* pixels, int32_t width, int32_t height,
-                            int32_t nchannels, int32_t x, int32_t y,
-                            const char* text, const char* font, int32_t size,
-                            const float* colour);
+SPAR_OIIO_API char* spar_oiio_render_text(float* pixels, int32_t width,
+                                          int32_t height, int32_t nchannels,
+                                          int32_t x, int32_t y,
+                                          const char* text, const char* font,
+                                          int32_t size, const float* colour);
 
-/* Layout of the structs above as this compiler sees them, for spar-sys's
- * ABI test: `item` is "<Struct>.size", "<Struct>.align" or
+/* Layout of the structs above as this compiler sees them, which spar checks
+ * against its own declarations when it loads the library: `item` is "<Struct>.size", "<Struct>.align" or
  * "<Struct>.<field>" (the field's offset). Returns -1 for an unknown item. */
-int64_t spar_oiio_abi_layout(const char* item);
+SPAR_OIIO_API int64_t spar_oiio_abi_layout(const char* item);
 
 #ifdef __cplusplus
 }

@@ -1,11 +1,30 @@
 //! C ABI of the OpenImageIO shim (`shim/oiio_shim.h`), declared by hand.
 //!
+//! The shim is not linked: the build script makes it a shared library of
+//! its own, [`LIBRARY_FILE`] in `OUT_DIR` ([`BUILT_LIBRARY`]), linked against
+//! OpenImageIO, and `spar::native::oiio` loads it with `dlopen` the first
+//! time it is needed and resolves each function by its symbol name below.
+//! So the functions are declared as function-pointer types, one per symbol.
+//!
 //! The header is the reference: its comments give the contract of each
 //! function (ownership, lifetimes, error messages). The layout of the
-//! `#[repr(C)]` structs is checked against the C compiler's in the test at
-//! the bottom. The safe wrapper is `spar::native::oiio`.
+//! `#[repr(C)]` structs is checked against the C compiler's
+//! (`spar_oiio_abi_layout`) each time spar loads the library, and
+//! [`ABI_VERSION`] against `spar_oiio_abi_version`. The safe wrapper is
+//! `spar::native::oiio`.
 
 use std::ffi::c_char;
+
+/// File name of the shim library.
+pub const LIBRARY_FILE: &str = "libspar_oiio.so";
+
+/// Where the build script wrote the shim library (an absolute path inside
+/// this build's `target/` directory).
+pub const BUILT_LIBRARY: &str = env!("SPAR_OIIO_SHIM_BUILT");
+
+/// `SPAR_OIIO_ABI_VERSION`: what `spar_oiio_abi_version` returns for a
+/// library that matches these declarations.
+pub const ABI_VERSION: i32 = 1;
 
 /// `SPAR_OIIO_PIXEL_U8`: 8-bit unsigned integer pixels.
 pub const SPAR_OIIO_PIXEL_U8: i32 = 0;
@@ -65,90 +84,48 @@ pub struct SparOiioImageView {
     pub metadata_len: usize,
 }
 
-extern "C" {
-    /// Writes one image; NULL on success, else an owned message.
-    pub fn spar_oiio_write(request: *const SparOiioWriteRequest) -> *mut c_char;
-    /// Reads one image; NULL and an owned message in `*error` on failure.
-    pub fn spar_oiio_read(path: *const c_char, error: *mut *mut c_char) -> *mut SparOiioImage;
-    /// Fills `*view` from `image`.
-    pub fn spar_oiio_image_view(image: *const SparOiioImage, view: *mut SparOiioImageView);
-    /// Releases an image (NULL allowed).
-    pub fn spar_oiio_image_free(image: *mut SparOiioImage);
-    /// Releases an error message (NULL allowed).
-    pub fn spar_oiio_string_free(message: *mut c_char);
-    /// Draws text into a float image in place; NULL on success, else an
-    /// owned message.
-    pub fn spar_oiio_render_text(
-        pixels: *mut f32,
-        width: i32,
-        height: i32,
-        nchannels: i32,
-        x: i32,
-        y: i32,
-        text: *const c_char,
-        font: *const c_char,
-        size: i32,
-        colour: *const f32,
-    ) -> *mut c_char;
-    /// Size, alignment or field offset of the shim's structs, -1 if unknown.
-    pub fn spar_oiio_abi_layout(item: *const c_char) -> i64;
-}
+/// `spar_oiio_abi_version`: the library's `SPAR_OIIO_ABI_VERSION`.
+pub type AbiVersionFn = unsafe extern "C" fn() -> i32;
+/// `spar_oiio_write`: writes one image; NULL on success, else an owned
+/// message.
+pub type WriteFn = unsafe extern "C" fn(request: *const SparOiioWriteRequest) -> *mut c_char;
+/// `spar_oiio_read`: reads one image; NULL and an owned message in `*error`
+/// on failure.
+pub type ReadFn =
+    unsafe extern "C" fn(path: *const c_char, error: *mut *mut c_char) -> *mut SparOiioImage;
+/// `spar_oiio_image_view`: fills `*view` from `image`.
+pub type ImageViewFn =
+    unsafe extern "C" fn(image: *const SparOiioImage, view: *mut SparOiioImageView);
+/// `spar_oiio_image_free`: releases an image (NULL allowed).
+pub type ImageFreeFn = unsafe extern "C" fn(image: *mut SparOiioImage);
+/// `spar_oiio_string_free`: releases an error message (NULL allowed).
+pub type StringFreeFn = unsafe extern "C" fn(message: *mut c_char);
+/// `spar_oiio_render_text`: draws text into a float image in place; NULL
+/// on success, else an owned message.
+pub type RenderTextFn = unsafe extern "C" fn(
+    pixels: *mut f32,
+    width: i32,
+    height: i32,
+    nchannels: i32,
+    x: i32,
+    y: i32,
+    text: *const c_char,
+    font: *const c_char,
+    size: i32,
+    colour: *const f32,
+) -> *mut c_char;
+/// `spar_oiio_abi_layout`: size, alignment or field offset of the shim's
+/// structs, -1 if unknown.
+pub type AbiLayoutFn = unsafe extern "C" fn(item: *const c_char) -> i64;
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use std::ffi::CString;
-    use std::mem::{align_of, offset_of, size_of};
-
-    fn c_layout(item: &str) -> i64 {
-        let item = CString::new(item).unwrap();
-        // SAFETY: `item` is a valid NUL-terminated string for the call.
-        unsafe { spar_oiio_abi_layout(item.as_ptr()) }
-    }
-
-    macro_rules! check_layout {
-        ($ty:ident { $($field:ident),* $(,)? }) => {{
-            let name = stringify!($ty);
-            assert_eq!(c_layout(&format!("{name}.size")), size_of::<$ty>() as i64, "{name} size");
-            assert_eq!(c_layout(&format!("{name}.align")), align_of::<$ty>() as i64, "{name} align");
-            $(
-                assert_eq!(
-                    c_layout(&format!("{name}.{}", stringify!($field))),
-                    offset_of!($ty, $field) as i64,
-                    "{name}.{}", stringify!($field)
-                );
-            )*
-        }};
-    }
-
-    #[test]
-    fn struct_layouts_match_the_header() {
-        check_layout!(SparOiioKeyValue { key, value });
-        check_layout!(SparOiioWriteRequest {
-            path,
-            width,
-            height,
-            nchannels,
-            pixels,
-            channel_names,
-            pixel_type,
-            alpha_channel,
-            unassociated_alpha,
-            color_space,
-            metadata,
-            metadata_len,
-        });
-        check_layout!(SparOiioImageView {
-            width,
-            height,
-            nchannels,
-            pixels,
-            channel_names,
-            alpha_channel,
-            unassociated_alpha,
-            metadata,
-            metadata_len,
-        });
-        assert_eq!(c_layout("NoSuchStruct.size"), -1);
-    }
+/// The symbol names, NUL-terminated, for `dlsym`.
+pub mod symbols {
+    pub const ABI_VERSION: &[u8] = b"spar_oiio_abi_version\0";
+    pub const WRITE: &[u8] = b"spar_oiio_write\0";
+    pub const READ: &[u8] = b"spar_oiio_read\0";
+    pub const IMAGE_VIEW: &[u8] = b"spar_oiio_image_view\0";
+    pub const IMAGE_FREE: &[u8] = b"spar_oiio_image_free\0";
+    pub const STRING_FREE: &[u8] = b"spar_oiio_string_free\0";
+    pub const RENDER_TEXT: &[u8] = b"spar_oiio_render_text\0";
+    pub const ABI_LAYOUT: &[u8] = b"spar_oiio_abi_layout\0";
 }
