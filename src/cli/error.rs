@@ -128,11 +128,26 @@ impl From<crate::render::prepare::PrepareError> for CliError {
 }
 
 /// An image that cannot be written is an output error, one that cannot
-/// be read (or lacks a channel) an input error; an inconsistent image is
-/// spar's own.
+/// be read (or lacks a channel) an input error; an inconsistent image, or
+/// an OpenImageIO shim that cannot be loaded, is spar's own.
 impl From<crate::image::ImageError> for CliError {
     fn from(e: crate::image::ImageError) -> CliError {
         use crate::image::ImageError;
+        #[cfg(feature = "native")]
+        {
+            use crate::image::Cause;
+            if let ImageError::Write {
+                cause: Cause::Unavailable(_),
+                ..
+            }
+            | ImageError::Read {
+                cause: Cause::Unavailable(_),
+                ..
+            } = &e
+            {
+                return CliError::new(ErrorKind::Internal, e.to_string());
+            }
+        }
         let kind = match e {
             ImageError::Write { .. } => ErrorKind::Output,
             ImageError::Read { .. } | ImageError::MissingChannel { .. } => ErrorKind::Input,
