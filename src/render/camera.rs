@@ -20,6 +20,18 @@ pub enum Projection {
     Orthographic { width: f64 },
 }
 
+/// Where in a pixel a sample's ray passes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum PixelSampling {
+    /// Low-discrepancy positions over the pixel, one per sample
+    /// (`render::sampling`): the pixel's area is integrated.
+    #[default]
+    Jittered,
+    /// Every sample through the pixel's centre: a point sample of the
+    /// image, for comparisons with references that sample centres.
+    Center,
+}
+
 /// A camera.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Camera {
@@ -35,6 +47,8 @@ pub struct Camera {
     /// applied to the light reaching every pixel before its coherence
     /// matrix is recorded: a polarizer, a retarder or a chain of them.
     pub analyzer: Option<Jones>,
+    /// Where in each pixel the samples' rays pass.
+    pub sampling: PixelSampling,
 }
 
 impl Camera {
@@ -74,6 +88,7 @@ impl Camera {
             height,
             projection: Projection::Pinhole,
             analyzer: None,
+            sampling: PixelSampling::Jittered,
         })
     }
 
@@ -93,6 +108,12 @@ impl Camera {
     /// frame).
     pub fn with_analyzer(mut self, analyzer: Option<Jones>) -> Camera {
         self.analyzer = analyzer;
+        self
+    }
+
+    /// The same camera sampling its pixels as `sampling` says.
+    pub fn with_sampling(mut self, sampling: PixelSampling) -> Camera {
+        self.sampling = sampling;
         self
     }
 

@@ -375,7 +375,10 @@ pub fn render_part(
                         } else {
                             0
                         };
-                        let (jx, jy) = key.pixel_position();
+                        let (jx, jy) = match camera.sampling {
+                            camera::PixelSampling::Jittered => key.pixel_position(),
+                            camera::PixelSampling::Center => (0.5, 0.5),
+                        };
                         let (fx, fy) = (x as f64 + jx, y as f64 + jy);
                         let (eye, d) = camera.ray(fx, fy);
                         let (bx, by) = camera.stokes_frame(d);

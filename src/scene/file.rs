@@ -223,6 +223,9 @@ pub struct CameraDef {
     /// Optical elements in front of the film, the first one the light
     /// meets first.
     pub analyzer: Option<Spanned<AnalyzerDef>>,
+    /// `jittered` (default: low-discrepancy positions over each pixel) or
+    /// `center` (every sample through the pixel's centre).
+    pub sampling: Option<Spanned<String>>,
 }
 
 /// One element of a camera's analyzer: exactly one of `linear` (a sheet

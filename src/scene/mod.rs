@@ -11,7 +11,7 @@ use crate::geometry::Mesh;
 use crate::material::{Dispersion, Material};
 use crate::optics::Jones;
 use crate::render::approx::{BranchingArg, CoherenceModel, DispersionMode, PolarizationArg};
-use crate::render::camera::{Camera, Projection};
+use crate::render::camera::{Camera, PixelSampling, Projection};
 pub use crate::render::light::{
     DistantLight, Environment, EnvironmentMap, Light, Polarization, Texture,
 };
@@ -299,9 +299,27 @@ impl Scene {
             resolution: (w, h),
             render: settings,
         } = resolve(Settings::defaults(), &[&layer]).map_err(scene_error)?;
+        let sampling = match &c.sampling {
+            None => PixelSampling::Jittered,
+            Some(v) => match v.get_ref().as_str() {
+                "jittered" => PixelSampling::Jittered,
+                "center" | "centre" => PixelSampling::Center,
+                other => {
+                    return loc.err(
+                        v.span(),
+                        "camera.sampling",
+                        format!(
+                            "`{other}`: \"jittered\" (positions spread over each pixel, the \
+                             default) or \"center\" (every sample through the pixel's centre)"
+                        ),
+                    )
+                }
+            },
+        };
         let mut camera = Camera::new(eye, look_at, up, fov, w, h)
             .or_else(|m| loc.err(c.eye.span(), "camera", m))?
-            .with_analyzer(analyzer);
+            .with_analyzer(analyzer)
+            .with_sampling(sampling);
         if let Some(width) = width {
             camera = camera
                 .orthographic(*width.get_ref())

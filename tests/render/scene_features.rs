@@ -846,3 +846,47 @@ fn an_environment_is_seen_where_rays_leave_the_scene() {
         }
     }
 }
+
+#[test]
+fn center_sampling_puts_every_sample_through_the_pixel_centre() {
+    use spar::render::camera::PixelSampling;
+    use spar::render::integrator::{Stats, Tracer, WavelengthMedia};
+    let s = parse(&camera("samples = 3\nsampling = \"center\"")).unwrap();
+    assert_eq!(s.camera.sampling, PixelSampling::Center);
+    assert_eq!(
+        parse(GOOD).unwrap().camera.sampling,
+        PixelSampling::Jittered
+    );
+    refused(
+        &camera("sampling = \"stratified\""),
+        7,
+        "camera.sampling",
+        &["`stratified`", "jittered", "center"],
+    );
+    // Each pixel is the tree of the ray through its centre, whatever the
+    // sample: the film equals one tracer call per pixel centre.
+    let (film, _) = crate::support::render::render_at(&s, &[550.0]);
+    let accel = spar::render::prepare::accel(&s, Default::default(), 1, None).unwrap();
+    let tracer = Tracer::new(&s, accel.as_ref(), spar::render::prepare::tree(&s))
+        .with_strategy(s.settings.approx.strategy);
+    let media = WavelengthMedia::new(&s, 550.0);
+    let mut lit = 0;
+    for y in 0..8 {
+        for x in 0..8 {
+            let (origin, d) = s.camera.ray(x as f64 + 0.5, y as f64 + 0.5);
+            let (bx, by) = s.camera.stokes_frame(d);
+            let j = tracer.camera_ray(origin, d, [bx, by], &media, &mut Stats::default());
+            let (want, got) = (j.stokes().to_array(), film.stokes(x, y, 0));
+            for c in 0..4 {
+                assert!(
+                    (got[c] - want[c]).abs() <= 1e-6 * want[0].max(1e-30),
+                    "pixel ({x}, {y}) S{c}: {} vs the centre ray's {}",
+                    got[c],
+                    want[c]
+                );
+            }
+            lit += (want[0] > 0.0) as u32;
+        }
+    }
+    assert!(lit > 8, "the gem and the light are in view");
+}
