@@ -269,7 +269,7 @@ impl Tracer<'_> {
                 // Traced from the backend's hit, as the incoherent tree is
                 // (so both models follow the same rays); phases from the
                 // exact point.
-                origin: traced + self.epsilon * offset,
+                origin: traced + self.epsilon(hit.geom) * offset,
                 anchor: point,
                 dir: -f.wave.ray,
                 region,

@@ -299,8 +299,9 @@ pub struct Tracer<'a> {
     pub(super) accel: &'a dyn Intersector,
     pub(super) settings: TreeSettings,
     pub(super) strategy: Strategy,
-    /// Offset of secondary ray origins from the surface, in scene units.
-    pub(super) epsilon: f64,
+    /// Offset of secondary ray origins from the surface of each object,
+    /// in scene units ([`Tracer::epsilon`]).
+    epsilon: Vec<f64>,
     /// A sphere (centre, radius) around every object: rays from outside it
     /// are started on it.
     bounds: Option<(DVec3, f64)>,
@@ -346,7 +347,10 @@ pub(super) fn unpolarized_gain(t: &Jones) -> f64 {
 
 impl<'a> Tracer<'a> {
     pub fn new(scene: &'a Scene, accel: &'a dyn Intersector, settings: TreeSettings) -> Tracer<'a> {
-        let extent = scene
+        // How far each object reaches: its size or its distance from the
+        // origin, whichever is larger (what f32 coordinates on it are
+        // relative to).
+        let reach: Vec<f64> = scene
             .objects
             .iter()
             .map(|o| {
@@ -356,7 +360,8 @@ impl<'a> Tracer<'a> {
                     .max(lo.abs().max_element())
                     .max(hi.abs().max_element())
             })
-            .fold(0.0, f64::max);
+            .collect();
+        let extent = reach.iter().copied().fold(0.0, f64::max);
         let bounds = scene
             .objects
             .iter()
@@ -375,10 +380,21 @@ impl<'a> Tracer<'a> {
             settings,
             bounds,
             strategy: Strategy::default(),
-            // Embree works in f32: hit points are good to a few 1e-7 of the
-            // scene's extent; step well clear of that.
-            epsilon: 1e-5 * extent.max(1e-30),
+            // Embree works in f32: a hit on an object is good to a few
+            // 1e-7 of the object's reach; step well clear of that. Per
+            // object, not per scene: a 0.5 µm film near the origin keeps a
+            // 50 nm offset however far away another object stands (with
+            // the scene's extent it stepped through the film).
+            epsilon: reach.iter().map(|r| 1e-5 * r.max(1e-30)).collect(),
         }
+    }
+
+    /// How far a secondary ray leaving object `object` starts from its
+    /// surface, in scene units: 1e-5 of the object's reach (its size or
+    /// its distance from the origin, whichever is larger).
+    #[inline]
+    pub(super) fn epsilon(&self, object: u32) -> f64 {
+        self.epsilon[object as usize]
     }
 
     /// The same tracer with another strategy.
@@ -779,7 +795,7 @@ impl<'a> Tracer<'a> {
                 Side::Minus => (other, -normal),
             };
             let child = Query {
-                origin: point + self.epsilon * offset,
+                origin: point + self.epsilon(hit.geom) * offset,
                 dir: -f.wave.ray,
                 region,
                 kind: f.wave.kind,

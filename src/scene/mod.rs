@@ -508,10 +508,11 @@ pub const MAX_COORDINATE: f64 = 1e6;
 pub const MIN_OBJECT_SIZE: f64 = 1e-3;
 
 /// Smallest size of an object relative to the scene's extent (the largest
-/// coordinate of any object). Secondary rays start 1e-5 of the extent
-/// from the surface they leave (f32 hit points are good to a few 1e-7 of
-/// it): an object smaller than 1e-3 of the extent would be stepped over by
-/// 1 % of its size or more.
+/// coordinate of any object). f32 coordinates are good to a few 1e-7 of
+/// the scene's extent, and secondary rays start 1e-5 of the reach of the
+/// object they leave (its size or its distance from the origin) from its
+/// surface: an object smaller than 1e-3 of the extent, far from the
+/// origin, would be stepped over by 1 % of its size or more.
 pub const MIN_RELATIVE_SIZE: f64 = 1e-3;
 
 /// Objects closer than this fraction of the scene's extent count as

@@ -598,3 +598,34 @@ fn the_seed_scenes_look_the_same_in_both_models_but_where_paths_coincide() {
         );
     }
 }
+
+#[test]
+fn a_thin_film_beside_a_distant_object_keeps_its_rays() {
+    // The film of thin-film.toml with a 10 mm plate 80 mm away: secondary
+    // rays start 1e-5 of the reach of the object they leave (50 nm for
+    // the film), not of the whole scene's (0.8 µm, more than the film is
+    // thick: its rays stepped through it and were lost).
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/polariscope/thin-film.toml"),
+    )
+    .unwrap()
+    .replace(
+        "[[light]]",
+        "[[object]]\nmesh = \"plate.obj\"\nmedium = \"film\"\n\
+         transform = { translate = [80.0, 0.0, 0.0] }\n\n[[light]]",
+    );
+    let plate = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/polariscope/plate.obj"),
+    )
+    .unwrap();
+    let (scene, _d) = crate::support::render::scene(&text, &[("plate.obj", plate)]);
+    assert_eq!(scene.objects.len(), 2);
+    let (film, stats) = render_at(&scene, &[550.0]);
+    assert_eq!(stats.lost, 0, "{}", stats.lost_breakdown());
+    let (n, _) = indices(&scene, 0, 550.0);
+    let d = thickness(&scene, 0) * scene.unit_nm;
+    let r = centre_stokes(&film, 0)[0] / spar::spectrum::cie::d65(550.0);
+    let theta0 = 30f64.to_radians();
+    let airy = 0.5 * (airy_r(n, d, theta0, 550.0, true) + airy_r(n, d, theta0, 550.0, false));
+    assert!((r - airy).abs() <= 1e-3, "R {r} vs Airy {airy}");
+}
