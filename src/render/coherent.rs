@@ -28,9 +28,11 @@
 //! the band's temporal coherence (`sinc(π ΔL Δλ / λ²)` for a flat band Δλ
 //! wide). Groups are found by sorting, not by comparing every pair.
 
-use super::integrator::{max_gain, Node, Region, Stats, Traced, Tracer, WavelengthMedia};
+use super::integrator::{
+    feeder_side, max_gain, Node, Region, Stats, Traced, Tracer, WavelengthMedia,
+};
 use super::sampling::SampleKey;
-use crate::optics::modes::{Side, WaveKind};
+use crate::optics::modes::WaveKind;
 use crate::optics::{Coherence, Jones};
 use glam::DVec3;
 use num_complex::Complex64;
@@ -106,7 +108,34 @@ struct Path {
 }
 
 thread_local! {
-    static LEAVES: RefCell<Vec<Leaf>> = const { RefCell::new(Vec::new()) };
+    /// Each rayon worker's buffers for one camera sample, kept between
+    /// samples so the walk and the grouping allocate nothing once warm.
+    static SCRATCH: RefCell<Scratch> = const { RefCell::new(Scratch::new()) };
+}
+
+/// The buffers of [`Tracer::trace_coherent`].
+struct Scratch {
+    leaves: Vec<Leaf>,
+    /// The leaves' indices, sorted by source and direction.
+    order: Vec<u32>,
+    /// The first leaf of each leaf's group (`u32::MAX`: none yet).
+    group_of: Vec<u32>,
+    /// The group being summed.
+    members: Vec<u32>,
+    /// The coherence matrix at each wavelength being summed.
+    acc: Vec<[[Complex64; 2]; 2]>,
+}
+
+impl Scratch {
+    const fn new() -> Scratch {
+        Scratch {
+            leaves: Vec::new(),
+            order: Vec::new(),
+            group_of: Vec::new(),
+            members: Vec::new(),
+            acc: Vec::new(),
+        }
+    }
 }
 
 /// The light's field basis for a path leaving along `k`: `e1` the
@@ -172,9 +201,9 @@ impl Tracer<'_> {
         out: &mut [Coherence],
         stats: &mut Stats,
     ) {
-        LEAVES.with(|cell| {
-            let mut leaves = cell.borrow_mut();
-            leaves.clear();
+        SCRATCH.with(|cell| {
+            let scratch = &mut *cell.borrow_mut();
+            scratch.leaves.clear();
             let root = Path {
                 origin,
                 anchor: origin,
@@ -188,8 +217,8 @@ impl Tracer<'_> {
                 opl: 0.0,
                 a: Jones::identity(2),
             };
-            self.walk(&root, &basis, &batch[0], key, &mut leaves, stats);
-            stats.coherent += self.sum_leaves(&leaves, batch, out);
+            self.walk(&root, &basis, &batch[0], key, &mut scratch.leaves, stats);
+            stats.coherent += self.sum_leaves(scratch, batch, out);
         });
     }
 
@@ -255,10 +284,7 @@ impl Tracer<'_> {
                 stats.pruned += 1;
                 continue;
             }
-            let (region, offset) = match f.wave.side {
-                Side::Plus => (p.region, normal),
-                Side::Minus => (other, -normal),
-            };
+            let (region, offset) = feeder_side(f.wave.side, p.region, other, normal);
             // A sampled branch stands for its siblings with weight 1/p on
             // its intensity: √weight on its amplitude.
             let mut a = a_node.product(&f.block);
@@ -344,20 +370,33 @@ impl Tracer<'_> {
     /// The camera's coherence matrix at each wavelength of `batch` from a
     /// sample's leaves (module docs); returns how many leaves joined a
     /// group of two or more.
-    fn sum_leaves(&self, leaves: &[Leaf], batch: &[WavelengthMedia], out: &mut [Coherence]) -> u64 {
+    fn sum_leaves(
+        &self,
+        scratch: &mut Scratch,
+        batch: &[WavelengthMedia],
+        out: &mut [Coherence],
+    ) -> u64 {
+        let Scratch {
+            leaves,
+            order,
+            group_of,
+            members,
+            acc,
+        } = scratch;
         let mut coherent = 0;
-        let zero = [[Complex64::new(0.0, 0.0); 2]; 2];
-        let mut acc = vec![zero; batch.len()];
+        acc.clear();
+        acc.resize(batch.len(), [[Complex64::new(0.0, 0.0); 2]; 2]);
         // Sort by source, then by the first direction component, and sweep:
         // each leaf joins the first earlier leaf of its source whose
         // direction matches (a group's members then follow its first).
-        let mut order: Vec<u32> = (0..leaves.len() as u32).collect();
+        order.clear();
+        order.extend(0..leaves.len() as u32);
         order.sort_unstable_by(|&a, &b| {
             let (la, lb) = (&leaves[a as usize], &leaves[b as usize]);
             la.source.cmp(&lb.source).then(la.k.x.total_cmp(&lb.k.x))
         });
-        let mut group_of = vec![u32::MAX; leaves.len()];
-        let mut members: Vec<u32> = Vec::new();
+        group_of.clear();
+        group_of.resize(leaves.len(), u32::MAX);
         for (pos, &i) in order.iter().enumerate() {
             if group_of[i as usize] != u32::MAX {
                 continue;
@@ -366,26 +405,24 @@ impl Tracer<'_> {
             members.clear();
             members.push(i);
             group_of[i as usize] = i;
-            {
-                for &j in &order[pos + 1..] {
-                    let lj = &leaves[j as usize];
-                    if lj.source != li.source || lj.k.x - li.k.x > SAME_DIRECTION {
-                        break;
-                    }
-                    if group_of[j as usize] == u32::MAX
-                        && (lj.k - li.k).length_squared() <= SAME_DIRECTION * SAME_DIRECTION
-                    {
-                        group_of[j as usize] = i;
-                        members.push(j);
-                    }
+            for &j in &order[pos + 1..] {
+                let lj = &leaves[j as usize];
+                if lj.source != li.source || lj.k.x - li.k.x > SAME_DIRECTION {
+                    break;
+                }
+                if group_of[j as usize] == u32::MAX
+                    && (lj.k - li.k).length_squared() <= SAME_DIRECTION * SAME_DIRECTION
+                {
+                    group_of[j as usize] = i;
+                    members.push(j);
                 }
             }
             if members.len() > 1 {
                 coherent += members.len() as u64;
             }
-            self.add_group(leaves, &members, batch, &mut acc);
+            self.add_group(leaves, members, batch, acc);
         }
-        for (o, a) in out.iter_mut().zip(&acc) {
+        for (o, a) in out.iter_mut().zip(acc.iter()) {
             *o = Coherence::from_matrix(*a);
         }
         coherent

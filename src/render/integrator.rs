@@ -269,6 +269,23 @@ pub struct TreeSettings {
     pub prune: f64,
 }
 
+/// Where a feeder on `side` of a node travels, and which way its ray's
+/// origin steps off the surface: the node's own region and along `normal`
+/// for a reflection feeder (side +), the far region and against it for a
+/// transmission feeder.
+#[inline]
+pub(super) fn feeder_side(
+    side: Side,
+    here: Region,
+    other: Region,
+    normal: DVec3,
+) -> (Region, DVec3) {
+    match side {
+        Side::Plus => (here, normal),
+        Side::Minus => (other, -normal),
+    }
+}
+
 /// A traced backward ray: the ray handed to the backend (`None` when it
 /// misses the scene's bounding sphere), its hit, and the query's own ray
 /// parameter at the hit (∞ without one).
@@ -341,7 +358,7 @@ pub(super) fn max_gain(t: &Jones) -> f64 {
 
 /// Intensity a block passes from unpolarized light: ‖T‖²_F / cols.
 #[inline]
-pub(super) fn unpolarized_gain(t: &Jones) -> f64 {
+fn unpolarized_gain(t: &Jones) -> f64 {
     t.norm_sqr() / t.cols as f64
 }
 
@@ -488,7 +505,7 @@ impl<'a> Tracer<'a> {
     /// precision is lost), or `None` when it misses the sphere and so every
     /// object.
     #[inline]
-    pub(super) fn start_in_bounds(&self, origin: DVec3, dir: DVec3) -> (Option<Ray>, f64) {
+    fn start_in_bounds(&self, origin: DVec3, dir: DVec3) -> (Option<Ray>, f64) {
         let Some((centre, radius)) = self.bounds else {
             return (None, 0.0);
         };
@@ -674,7 +691,7 @@ impl<'a> Tracer<'a> {
         (sampled, (chosen, n_chosen))
     }
 
-    pub(super) fn medium_of(&self, region: Region, media: &WavelengthMedia) -> Medium {
+    fn medium_of(&self, region: Region, media: &WavelengthMedia) -> Medium {
         match region {
             Region::Ambient => AMBIENT,
             Region::Inside(i) => media.objects[i as usize],
@@ -790,10 +807,7 @@ impl<'a> Tracer<'a> {
                 stats.pruned += 1;
                 continue;
             }
-            let (region, offset) = match f.wave.side {
-                Side::Plus => (q.region, normal),
-                Side::Minus => (other, -normal),
-            };
+            let (region, offset) = feeder_side(f.wave.side, q.region, other, normal);
             let child = Query {
                 origin: point + self.epsilon(hit.geom) * offset,
                 dir: -f.wave.ray,

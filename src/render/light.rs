@@ -175,7 +175,7 @@ impl Light {
 /// unpolarized light, the zero vector when the filter passes nothing
 /// along `k`. `normal` is the filter's plane normal, `fallback` a vector
 /// in its plane (for a calcite plate seen along its axis).
-pub fn passed_field(
+fn passed_field(
     polarization: Polarization,
     normal: DVec3,
     fallback: DVec3,
