@@ -40,8 +40,9 @@
 //! f64: the same ray, so exact for any camera, but the backend's f32
 //! arithmetic then works at the scene's scale, not the camera's distance.
 
+use super::bundle;
 use crate::accel::{Hit, Intersector, Ray};
-use crate::optics::backward::Feeders;
+use crate::optics::backward::{Feeder, Feeders};
 use crate::optics::modes::{Side, WaveKind};
 use crate::optics::{Coherence, Interface, Jones, Medium};
 use crate::render::approx::{Branching, CoherenceModel, PolarizationModel, Strategy};
@@ -81,6 +82,12 @@ pub struct Stats {
     /// their camera sample (the physical model's coherent groups,
     /// docs/physics.md §9.3); 0 in the incoherent model.
     pub coherent: u64,
+    /// Nodes where a crystal's o and e waves travelled as one bundle
+    /// (`render::bundle`): each stands for a node of both members.
+    pub bundled: u64,
+    /// Bundles whose members parted (different facets, or farther apart
+    /// than the tolerance) and continued as exact rays.
+    pub splits: u64,
 }
 
 /// Lost rays by cause. Rays stopped by the depth limit are not lost light
@@ -125,6 +132,8 @@ impl std::ops::AddAssign for Stats {
         self.lost += o.lost;
         self.causes += o.causes;
         self.coherent += o.coherent;
+        self.bundled += o.bundled;
+        self.splits += o.splits;
     }
 }
 
@@ -327,17 +336,17 @@ pub struct Tracer<'a> {
 /// One backward ray: the forward wave of `kind` that arrives at `origin`
 /// travelling along `-dir`.
 #[derive(Clone, Copy, Debug)]
-struct Query {
-    origin: DVec3,
-    dir: DVec3,
-    region: Region,
-    kind: WaveKind,
-    depth: u32,
+pub(super) struct Query {
+    pub origin: DVec3,
+    pub dir: DVec3,
+    pub region: Region,
+    pub kind: WaveKind,
+    pub depth: u32,
     /// Product of the gains along the path (the bound pruning tests).
-    throughput: f64,
+    pub throughput: f64,
     /// Which branch of the full part of the tree this is (for random
     /// numbers that differ between sibling subtrees).
-    path: u64,
+    pub path: u64,
 }
 
 /// Largest squared singular value of a Jones block: the most intensity it
@@ -412,6 +421,19 @@ impl<'a> Tracer<'a> {
     #[inline]
     pub(super) fn epsilon(&self, object: u32) -> f64 {
         self.epsilon[object as usize]
+    }
+
+    /// How many pixel footprints apart a bundle's members may be and
+    /// still travel together (0: no bundles).
+    #[inline]
+    pub(super) fn bundle_tolerance(&self) -> f64 {
+        self.strategy.bundle
+    }
+
+    /// One pixel's footprint at `point` ([`crate::render::camera::Camera::footprint`]).
+    #[inline]
+    pub(super) fn footprint(&self, point: DVec3) -> f64 {
+        self.scene.camera.footprint(point)
     }
 
     /// The same tracer with another strategy.
@@ -492,9 +514,16 @@ impl<'a> Tracer<'a> {
             throughput: 1.0,
             path: 0,
         };
-        // One slot of `batch` matrices per level of the tree below the root.
-        let mut scratch =
-            vec![Coherence::zero(1); batch.len() * (self.settings.max_depth as usize + 1)];
+        // One slot of `batch` matrices per level of the tree below the root
+        // (twice that with bundles: a bundle that splits hands its members
+        // a slot at its own depth).
+        let levels = self.settings.max_depth as usize + 1;
+        let levels = if self.strategy.bundle > 0.0 {
+            2 * levels
+        } else {
+            levels
+        };
+        let mut scratch = vec![Coherence::zero(1); batch.len() * levels];
         self.radiance(&q, &basis, batch, key, out, &mut scratch, stats);
     }
 
@@ -703,7 +732,7 @@ impl<'a> Tracer<'a> {
     /// the results of the levels below: a child writes into its first
     /// `batch.len()` entries and recurses with the rest.
     #[allow(clippy::too_many_arguments)]
-    fn radiance(
+    pub(super) fn radiance(
         &self,
         q: &Query,
         basis: &[DVec3; 2],
@@ -798,7 +827,51 @@ impl<'a> Tracer<'a> {
         for o in out.iter_mut() {
             *o = Coherence::zero(target.modes());
         }
+        // The o and e feeders of a crystal side travel as one bundle.
+        let mut bundled = [false; 4];
+        if self.strategy.bundle > 0.0 && !sampled && !scalar {
+            for side in [Side::Plus, Side::Minus] {
+                if let Some((io, ie)) = bundle::eigenwave_pair(list, side) {
+                    bundled[io] = true;
+                    bundled[ie] = true;
+                    let throughput = [q.throughput * gains[io], q.throughput * gains[ie]];
+                    if throughput[0].max(throughput[1]) < self.settings.prune {
+                        stats.pruned += 1;
+                        continue;
+                    }
+                    let (fo, fe) = (&list[io], &list[ie]);
+                    let (region, offset) = feeder_side(side, q.region, other, normal);
+                    let Region::Inside(object) = region else {
+                        unreachable!("eigenwaves live inside a crystal")
+                    };
+                    let origin = point + self.epsilon(hit.geom) * offset;
+                    let member = |f: &Feeder| bundle::Member {
+                        origin,
+                        dir: -f.wave.ray,
+                        kind: f.wave.kind,
+                    };
+                    let b = bundle::Bundle {
+                        members: [member(fo), member(fe)],
+                        object,
+                        depth: q.depth + 1,
+                        throughput,
+                        path: q.path.wrapping_mul(4).wrapping_add(io as u64 + 1),
+                        mismatch: 0.0,
+                    };
+                    let (child_out, deeper) = scratch.split_at_mut(n);
+                    let accepted = self.bundle_radiance(&b, batch, key, child_out, deeper, stats);
+                    debug_assert!(accepted, "a bundle without riding waves is never refused");
+                    let block = bundle::pair_block(&fo.block, &fe.block);
+                    for (o, j) in out.iter_mut().zip(child_out.iter()) {
+                        *o += j.transform(&block);
+                    }
+                }
+            }
+        }
         for &(i, weight) in &chosen[..n_chosen] {
+            if bundled[i] {
+                continue;
+            }
             let f = &list[i];
             // Pruning looks at the path's physical throughput, whatever the
             // sampling weight, so every strategy cuts the same subtrees.
