@@ -34,16 +34,16 @@ use num_complex::Complex64;
 
 /// One member of a bundle: the exact backward ray of one eigenwave.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Member {
-    pub origin: DVec3,
-    pub dir: DVec3,
-    pub kind: WaveKind,
+struct Member {
+    origin: DVec3,
+    dir: DVec3,
+    kind: WaveKind,
 }
 
 /// A backward query for both eigenwaves of a crystal (member 0 the
 /// ordinary, member 1 the extraordinary wave), inside object `object`.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Bundle {
+struct Bundle {
     pub members: [Member; 2],
     pub object: u32,
     pub depth: u32,
@@ -51,10 +51,11 @@ pub(super) struct Bundle {
     /// tree's paths it stands for (what pruning tests).
     pub throughput: [f64; 2],
     pub path: u64,
-    /// How far (chord of unit directions) the mode-changing waves that
-    /// ride on the members point from them on this segment (0 for a
-    /// bundle whose members are the exact waves of one point).
-    pub mismatch: f64,
+    /// The largest angle, radians, between the light this bundle carries
+    /// and its exact rays: the angles of the waves that rode on a member
+    /// (each keeps its angle along every later segment), summed along the
+    /// path.
+    pub drift: f64,
 }
 
 /// The feeder of `kind` on `side` in a node's list.
@@ -65,7 +66,7 @@ fn find(list: &[Feeder], side: Side, kind: WaveKind) -> Option<&Feeder> {
 
 /// The o and e feeders on `side` of a node's list (indices), when it has
 /// both.
-pub(super) fn eigenwave_pair(list: &[Feeder], side: Side) -> Option<(usize, usize)> {
+fn eigenwave_pair(list: &[Feeder], side: Side) -> Option<(usize, usize)> {
     let o = list
         .iter()
         .position(|f| f.wave.side == side && f.wave.kind == WaveKind::Ordinary)?;
@@ -77,7 +78,7 @@ pub(super) fn eigenwave_pair(list: &[Feeder], side: Side) -> Option<(usize, usiz
 
 /// The block that takes a bundle's (o, e) modes to a node's target:
 /// `[T_o | T_e]`, one column per member (each feeder block has one column).
-pub(super) fn pair_block(o: &Jones, e: &Jones) -> Jones {
+fn pair_block(o: &Jones, e: &Jones) -> Jones {
     let mut m = [[Complex64::new(0.0, 0.0); 2]; 2];
     for (r, row) in m.iter_mut().enumerate().take(o.rows) {
         *row = [o.m[r][0], e.m[r][0]];
@@ -95,14 +96,71 @@ fn dephased(c: &Coherence) -> Coherence {
 }
 
 impl Tracer<'_> {
+    /// At a node of the exact query `q` (at `point` on object `object`,
+    /// `normal` into `q`'s side, `other` across), traces each side's o and
+    /// e feeders in `list` (with `gains`) as one bundle and adds their
+    /// light to `out` (in the node's target basis); returns which feeders
+    /// it took.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn bundle_pairs(
+        &self,
+        q: &Query,
+        list: &[Feeder],
+        gains: &[f64; 4],
+        (point, object, normal, other): (DVec3, u32, DVec3, Region),
+        batch: &[WavelengthMedia],
+        key: &SampleKey,
+        out: &mut [Coherence],
+        scratch: &mut [Coherence],
+        stats: &mut Stats,
+    ) -> [bool; 4] {
+        let n = out.len();
+        let mut bundled = [false; 4];
+        for side in [Side::Plus, Side::Minus] {
+            let Some((io, ie)) = eigenwave_pair(list, side) else {
+                continue;
+            };
+            bundled[io] = true;
+            bundled[ie] = true;
+            let throughput = [q.throughput * gains[io], q.throughput * gains[ie]];
+            if throughput[0].max(throughput[1]) < self.settings.prune {
+                stats.pruned += 1;
+                continue;
+            }
+            let (fo, fe) = (&list[io], &list[ie]);
+            let (region, offset) = feeder_side(side, q.region, other, normal);
+            let Region::Inside(crystal) = region else {
+                unreachable!("eigenwaves live inside a crystal")
+            };
+            let origin = point + self.epsilon(object) * offset;
+            let member = |f: &Feeder| Member {
+                origin,
+                dir: -f.wave.ray,
+                kind: f.wave.kind,
+            };
+            let b = Bundle {
+                members: [member(fo), member(fe)],
+                object: crystal,
+                depth: q.depth + 1,
+                throughput,
+                path: q.path.wrapping_mul(4).wrapping_add(io as u64 + 1),
+                drift: q.drift,
+            };
+            let (child_out, deeper) = scratch.split_at_mut(n);
+            self.bundle_radiance(&b, batch, key, child_out, deeper, stats);
+            let block = pair_block(&fo.block, &fe.block);
+            for (o, j) in out.iter_mut().zip(child_out.iter()) {
+                *o += j.transform(&block);
+            }
+        }
+        bundled
+    }
+
     /// Fills `out` (one 2-mode matrix per wavelength of `batch`, in the
     /// bundle's (o, e) mode basis, diagonal) with the light of both
-    /// members of `b`, and returns true; or returns false, with `out`
-    /// unspecified, when the mode-changing waves riding on `b`'s members
-    /// would end more than the tolerance away from them (the caller then
-    /// traces them on their own). `scratch` as in [`Tracer::radiance`].
+    /// members of `b`. `scratch` as in [`Tracer::radiance`].
     #[allow(clippy::too_many_arguments)]
-    pub(super) fn bundle_radiance(
+    fn bundle_radiance(
         &self,
         b: &Bundle,
         batch: &[WavelengthMedia],
@@ -110,39 +168,43 @@ impl Tracer<'_> {
         out: &mut [Coherence],
         scratch: &mut [Coherence],
         stats: &mut Stats,
-    ) -> bool {
+    ) {
         let n = out.len();
         let region = Region::Inside(b.object);
         let [mo, me] = b.members;
+        if b.throughput[0].min(b.throughput[1]) < self.settings.prune {
+            // One member is pruned: the other alone, as the exact tree.
+            return self.split(b, None, batch, key, out, scratch, stats);
+        }
         stats.rays += 2;
         let traced = (
             self.trace(mo.origin, mo.dir, stats),
             self.trace(me.origin, me.dir, stats),
         );
         let (Some(to), Some(te)) = traced else {
-            if b.mismatch > 0.0 {
-                return false;
-            }
-            stats.rays -= 2;
-            self.split(b, batch, key, out, scratch, stats);
-            return true;
+            return self.split(
+                b,
+                Some([traced.0, traced.1]),
+                batch,
+                key,
+                out,
+                scratch,
+                stats,
+            );
         };
         let (Some(ho), Some(he)) = (to.hit, te.hit) else {
-            if b.mismatch > 0.0 {
-                return false;
-            }
-            stats.rays -= 2;
-            self.split(b, batch, key, out, scratch, stats);
-            return true;
+            return self.split(
+                b,
+                Some([Some(to), Some(te)]),
+                batch,
+                key,
+                out,
+                scratch,
+                stats,
+            );
         };
         let (po, pe) = (to.ray.expect("hit").at(ho.t), te.ray.expect("hit").at(he.t));
         let allowed = self.bundle_tolerance() * self.footprint(po);
-        // The riding waves drift from their members by the angle between
-        // them times the segment's length.
-        let length = (po - mo.origin).length().max((pe - me.origin).length());
-        if b.mismatch * length > allowed {
-            return false;
-        }
         // The members stay together while both reach the same facet plane,
         // close enough.
         let together = ho.geom == he.geom && {
@@ -153,10 +215,15 @@ impl Tracer<'_> {
             plane && (po - pe).length() <= allowed
         };
         if !together {
-            // The trace above is repeated by the members' own queries.
-            stats.rays -= 2;
-            self.split(b, batch, key, out, scratch, stats);
-            return true;
+            return self.split(
+                b,
+                Some([Some(to), Some(te)]),
+                batch,
+                key,
+                out,
+                scratch,
+                stats,
+            );
         }
         out.iter_mut().for_each(|o| *o = Coherence::zero(2));
         let media = &batch[0];
@@ -166,7 +233,7 @@ impl Tracer<'_> {
         let node_e = self.node(ray, hit, region, me.kind, me.dir, b.depth, media, stats);
         let (Some(node_o), Some(node_e)) = (node_o, node_e) else {
             // Depth cut or a lost ray (counted by `node`): nothing more.
-            return true;
+            return;
         };
         stats.nodes += 2;
         stats.bundled += 1;
@@ -214,24 +281,33 @@ impl Tracer<'_> {
                 stats.pruned += 1;
                 merged = true;
             } else {
-                let drift = |x: Option<&Feeder>, f: &Feeder| {
-                    x.map_or(0.0, |x| (x.wave.ray - f.wave.ray).length())
+                // The angle between a riding wave's ray and its member's.
+                let turn = |x: Option<&Feeder>, f: &Feeder| {
+                    x.map_or(0.0, |x| {
+                        2.0 * (0.5 * (x.wave.ray - f.wave.ray).length()).min(1.0).asin()
+                    })
                 };
-                let member = |node: &Node, f: &Feeder| Member {
-                    origin: node.ray.at(node.hit.t) + self.epsilon(node.hit.geom) * node.normal,
-                    dir: -f.wave.ray,
-                    kind: f.wave.kind,
-                };
-                let child = Bundle {
-                    members: [member(&node_o, fo), member(&node_e, fe)],
-                    object: b.object,
-                    depth: b.depth + 1,
-                    throughput,
-                    path: b.path.wrapping_mul(4).wrapping_add(1),
-                    mismatch: drift(riding[0], fo).max(drift(riding[1], fe)),
-                };
-                let (child_out, deeper) = scratch.split_at_mut(n);
-                if self.bundle_radiance(&child, batch, key, child_out, deeper, stats) {
+                // Seen from the camera, light that left its exact ray at an
+                // angle reaches a source far away up to that angle / the
+                // pixel's angle in pixel footprints from where it should
+                // (nearer sources: less).
+                let drift = b.drift + turn(riding[0], fo).max(turn(riding[1], fe));
+                if drift == 0.0 || drift <= self.bundle_tolerance() * self.pixel_angle() {
+                    let member = |node: &Node, f: &Feeder| Member {
+                        origin: node.ray.at(node.hit.t) + self.epsilon(node.hit.geom) * node.normal,
+                        dir: -f.wave.ray,
+                        kind: f.wave.kind,
+                    };
+                    let child = Bundle {
+                        members: [member(&node_o, fo), member(&node_e, fe)],
+                        object: b.object,
+                        depth: b.depth + 1,
+                        throughput,
+                        path: b.path.wrapping_mul(4).wrapping_add(1),
+                        drift,
+                    };
+                    let (child_out, deeper) = scratch.split_at_mut(n);
+                    self.bundle_radiance(&child, batch, key, child_out, deeper, stats);
                     merged = true;
                     for (o, c) in out.iter_mut().zip(child_out.iter()) {
                         *o += dephased(&c.transform(&r));
@@ -267,6 +343,7 @@ impl Tracer<'_> {
                     depth: b.depth + 1,
                     throughput,
                     path: b.path.wrapping_mul(4).wrapping_add(2 + i as u64),
+                    drift: b.drift,
                 };
                 let (air_out, deeper) = scratch.split_at_mut(n);
                 self.radiance(&q, &f.wave.basis, batch, key, air_out, deeper, stats);
@@ -275,7 +352,6 @@ impl Tracer<'_> {
                 }
             }
         }
-        true
     }
 
     /// Adds to mode `a` of `out` the light member `a` of `b` receives from
@@ -318,10 +394,9 @@ impl Tracer<'_> {
                 depth: b.depth + 1,
                 throughput,
                 path: b.path.wrapping_mul(8).wrapping_add(5 + a as u64),
-                mismatch: 0.0,
+                drift: b.drift,
             };
-            let accepted = self.bundle_radiance(&child, batch, key, child_out, deeper, stats);
-            debug_assert!(accepted, "a bundle without riding waves is never refused");
+            self.bundle_radiance(&child, batch, key, child_out, deeper, stats);
             let block = pair_block(&fo.block, &fe.block);
             for (o, c) in out.iter_mut().zip(child_out.iter()) {
                 *o += on_mode(a, c.transform(&block).jxx());
@@ -345,6 +420,7 @@ impl Tracer<'_> {
                 depth: b.depth + 1,
                 throughput,
                 path: b.path.wrapping_mul(8).wrapping_add(i as u64),
+                drift: b.drift,
             };
             self.radiance(&q, &f.wave.basis, batch, key, child_out, deeper, stats);
             for (o, j) in out.iter_mut().zip(child_out.iter()) {
@@ -353,11 +429,14 @@ impl Tracer<'_> {
         }
     }
 
-    /// Both members of `b` as exact queries of their own: `out` =
-    /// diag(o's intensity, e's intensity).
+    /// Both members of `b` as exact queries of their own, their rays
+    /// traced already (`traced`) or not: `out` = diag(o's intensity, e's
+    /// intensity).
+    #[allow(clippy::too_many_arguments)]
     fn split(
         &self,
         b: &Bundle,
+        traced: Option<[Option<Traced>; 2]>,
         batch: &[WavelengthMedia],
         key: &SampleKey,
         out: &mut [Coherence],
@@ -367,6 +446,7 @@ impl Tracer<'_> {
         let n = out.len();
         stats.splits += 1;
         out.iter_mut().for_each(|o| *o = Coherence::zero(2));
+        let mut traced = traced.map(|[o, e]| [Some(o), Some(e)]);
         for (a, m) in b.members.iter().enumerate() {
             if b.throughput[a] < self.settings.prune {
                 stats.pruned += 1;
@@ -380,10 +460,17 @@ impl Tracer<'_> {
                 depth: b.depth,
                 throughput: b.throughput[a],
                 path: b.path.wrapping_mul(2).wrapping_add(a as u64),
+                drift: b.drift,
             };
             let (member_out, deeper) = scratch.split_at_mut(n);
             // A member's own wave has one mode: its basis is unused.
-            self.radiance(&q, &[DVec3::ZERO; 2], batch, key, member_out, deeper, stats);
+            let basis = &[DVec3::ZERO; 2];
+            match traced.as_mut().and_then(|t| t[a].take()) {
+                Some(t) => {
+                    self.radiance_traced(&q, t, basis, batch, key, member_out, deeper, stats)
+                }
+                None => self.radiance(&q, basis, batch, key, member_out, deeper, stats),
+            }
             for (o, j) in out.iter_mut().zip(member_out.iter()) {
                 *o += on_mode(a, j.jxx());
             }

@@ -149,6 +149,15 @@ impl Camera {
         }
     }
 
+    /// The angle one pixel spans at the image centre, radians (0 for an
+    /// orthographic camera, whose rays are parallel).
+    pub fn pixel_angle(&self) -> f64 {
+        match self.projection {
+            Projection::Pinhole => 2.0 * self.tan_half_fov / self.height as f64,
+            Projection::Orthographic { .. } => 0.0,
+        }
+    }
+
     /// The same camera with another image size (the field of view stays
     /// vertical).
     pub fn with_resolution(mut self, width: u32, height: u32) -> Camera {

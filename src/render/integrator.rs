@@ -40,9 +40,8 @@
 //! f64: the same ray, so exact for any camera, but the backend's f32
 //! arithmetic then works at the scene's scale, not the camera's distance.
 
-use super::bundle;
 use crate::accel::{Hit, Intersector, Ray};
-use crate::optics::backward::{Feeder, Feeders};
+use crate::optics::backward::Feeders;
 use crate::optics::modes::{Side, WaveKind};
 use crate::optics::{Coherence, Interface, Jones, Medium};
 use crate::render::approx::{Branching, CoherenceModel, PolarizationModel, Strategy};
@@ -347,6 +346,10 @@ pub(super) struct Query {
     /// Which branch of the full part of the tree this is (for random
     /// numbers that differ between sibling subtrees).
     pub path: u64,
+    /// The largest angle, radians, between this path's light and its
+    /// exact ray, from waves that bundles carried on another wave's ray
+    /// (render::bundle; 0 without bundles).
+    pub drift: f64,
 }
 
 /// Largest squared singular value of a Jones block: the most intensity it
@@ -428,6 +431,12 @@ impl<'a> Tracer<'a> {
     #[inline]
     pub(super) fn bundle_tolerance(&self) -> f64 {
         self.strategy.bundle
+    }
+
+    /// The angle one pixel spans ([`crate::render::camera::Camera::pixel_angle`]).
+    #[inline]
+    pub(super) fn pixel_angle(&self) -> f64 {
+        self.scene.camera.pixel_angle()
     }
 
     /// One pixel's footprint at `point` ([`crate::render::camera::Camera::footprint`]).
@@ -513,6 +522,7 @@ impl<'a> Tracer<'a> {
             depth: 0,
             throughput: 1.0,
             path: 0,
+            drift: 0.0,
         };
         // One slot of `batch` matrices per level of the tree below the root
         // (twice that with bundles: a bundle that splits hands its members
@@ -743,10 +753,28 @@ impl<'a> Tracer<'a> {
         stats: &mut Stats,
     ) {
         stats.rays += 1;
+        let traced = self.trace(q.origin, q.dir, stats);
+        self.radiance_traced(q, traced, basis, batch, key, out, scratch, stats);
+    }
+
+    /// [`Self::radiance`] for a query whose ray has been traced already
+    /// (`None`: it could not be, and was counted lost).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn radiance_traced(
+        &self,
+        q: &Query,
+        traced: Option<Traced>,
+        basis: &[DVec3; 2],
+        batch: &[WavelengthMedia],
+        key: &SampleKey,
+        out: &mut [Coherence],
+        scratch: &mut [Coherence],
+        stats: &mut Stats,
+    ) {
         let modes = q.kind.mode_count();
         let zero = |out: &mut [Coherence]| out.iter_mut().for_each(|o| *o = Coherence::zero(modes));
         let scalar = self.strategy.polarization == PolarizationModel::Scalar;
-        let Some(Traced { ray, hit, t_hit }) = self.trace(q.origin, q.dir, stats) else {
+        let Some(Traced { ray, hit, t_hit }) = traced else {
             return zero(out);
         };
 
@@ -828,46 +856,12 @@ impl<'a> Tracer<'a> {
             *o = Coherence::zero(target.modes());
         }
         // The o and e feeders of a crystal side travel as one bundle.
-        let mut bundled = [false; 4];
-        if self.strategy.bundle > 0.0 && !sampled && !scalar {
-            for side in [Side::Plus, Side::Minus] {
-                if let Some((io, ie)) = bundle::eigenwave_pair(list, side) {
-                    bundled[io] = true;
-                    bundled[ie] = true;
-                    let throughput = [q.throughput * gains[io], q.throughput * gains[ie]];
-                    if throughput[0].max(throughput[1]) < self.settings.prune {
-                        stats.pruned += 1;
-                        continue;
-                    }
-                    let (fo, fe) = (&list[io], &list[ie]);
-                    let (region, offset) = feeder_side(side, q.region, other, normal);
-                    let Region::Inside(object) = region else {
-                        unreachable!("eigenwaves live inside a crystal")
-                    };
-                    let origin = point + self.epsilon(hit.geom) * offset;
-                    let member = |f: &Feeder| bundle::Member {
-                        origin,
-                        dir: -f.wave.ray,
-                        kind: f.wave.kind,
-                    };
-                    let b = bundle::Bundle {
-                        members: [member(fo), member(fe)],
-                        object,
-                        depth: q.depth + 1,
-                        throughput,
-                        path: q.path.wrapping_mul(4).wrapping_add(io as u64 + 1),
-                        mismatch: 0.0,
-                    };
-                    let (child_out, deeper) = scratch.split_at_mut(n);
-                    let accepted = self.bundle_radiance(&b, batch, key, child_out, deeper, stats);
-                    debug_assert!(accepted, "a bundle without riding waves is never refused");
-                    let block = bundle::pair_block(&fo.block, &fe.block);
-                    for (o, j) in out.iter_mut().zip(child_out.iter()) {
-                        *o += j.transform(&block);
-                    }
-                }
-            }
-        }
+        let bundled = if self.strategy.bundle > 0.0 && !sampled && !scalar {
+            let at = (point, hit.geom, normal, other);
+            self.bundle_pairs(q, list, &gains, at, batch, key, out, scratch, stats)
+        } else {
+            [false; 4]
+        };
         for &(i, weight) in &chosen[..n_chosen] {
             if bundled[i] {
                 continue;
@@ -893,6 +887,7 @@ impl<'a> Tracer<'a> {
                 } else {
                     q.path.wrapping_mul(4).wrapping_add(i as u64 + 1)
                 },
+                drift: q.drift,
             };
             let (child_out, deeper) = scratch.split_at_mut(n);
             self.radiance(&child, &f.wave.basis, batch, key, child_out, deeper, stats);
