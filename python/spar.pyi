@@ -98,6 +98,10 @@ class Scene:
     """"all" or "hero:K"."""
     dispersion: str
     """"on", "off" or "bands:K"."""
+    quality: Literal["draft", "default", "reference"]
+    """Write-only (reading raises AttributeError): applies a preset of
+    depth, pruning and approximations (docs/speed-vs-error.md); samples
+    and wavelengths stay."""
 
     @property
     def settings(self) -> Settings:
@@ -106,12 +110,6 @@ class Scene:
     def label(self) -> str:
         """The scene as messages and metadata name it: its path as given,
         or "<string>"."""
-    @property
-    def quality(self) -> None: ...
-    @quality.setter
-    def quality(self, preset: Literal["draft", "default", "reference"]) -> None:
-        """Applies a preset of depth, pruning and approximations
-        (docs/speed-vs-error.md); samples and wavelengths stay."""
     def set(
         self,
         *,
