@@ -243,11 +243,12 @@ impl Scene {
     }
 
     /// Renders the scene; see the module's stub for the arguments. The
-    /// settings given here apply to this render only.
+    /// settings given here apply to this render only, on a copy of the
+    /// scene.
     #[pyo3(signature = (mode=None, *, wavelength=None, accel=None, threads=None, progress=false, **settings))]
     #[allow(clippy::too_many_arguments)]
     fn render(
-        &self,
+        slf: &Bound<'_, Self>,
         py: Python<'_>,
         mode: Option<&Bound<'_, PyAny>>,
         wavelength: Option<f64>,
@@ -256,7 +257,12 @@ impl Scene {
         progress: bool,
         settings: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<render::Render> {
-        let mut scene = self.inner.clone();
+        // A copy, borrowed only for this line: while it renders, other
+        // threads may change (or render) this scene.
+        let (mut scene, label) = {
+            let this = slf.borrow();
+            (this.inner.clone(), this.label.clone())
+        };
         settings::apply(&mut scene, &settings::overrides(settings)?)?;
         let modes: Vec<String> = match mode.map(|m| (m, m.downcast::<PyString>())) {
             None => vec!["stokes".into()],
@@ -278,7 +284,7 @@ impl Scene {
             threads,
             progress,
         };
-        render::render(py, &scene, &self.label, &request)
+        render::render(py, &scene, &label, &request)
     }
 
     fn __repr__(&self) -> String {

@@ -40,7 +40,8 @@ def test_sigint_stops_a_render_and_the_interpreter_goes_on(repo):
 
 
 def test_the_gil_is_released_while_rendering(repo):
-    """Another Python thread runs while a render runs."""
+    """Another Python thread runs while a render runs, and may change the
+    scene being rendered (the render has its own copy)."""
     scene = spar.load_scene(os.path.join(repo, SCENE))
     ticks = []
     stop = threading.Event()
@@ -48,12 +49,14 @@ def test_the_gil_is_released_while_rendering(repo):
     def tick():
         while not stop.is_set():
             ticks.append(time.monotonic())
+            if len(ticks) == 20:
+                scene.seed = 99
             time.sleep(0.01)
 
     t = threading.Thread(target=tick)
     start = time.monotonic()
     t.start()
-    scene.render(mode="stokes", resolution=(32, 32), samples=1)
+    r = scene.render(mode="stokes", resolution=(32, 32), samples=1)
     end = time.monotonic()
     stop.set()
     t.join()
@@ -62,3 +65,5 @@ def test_the_gil_is_released_while_rendering(repo):
     # GIL would leave none.
     assert end - start > 0.4, "the render was too short to tell"
     assert len(during) > 10, (len(during), end - start)
+    assert scene.seed == 99
+    assert "seed=0 " in r.metadata["spar:settings"]
