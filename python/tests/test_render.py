@@ -149,3 +149,13 @@ def test_toml_text_loads_like_the_file(repo):
     assert np.array_equal(bits(a.stokes), bits(b.stokes))
     assert a.metadata["spar:scene_hash"] == b.metadata["spar:scene_hash"]
     assert from_text.label == "<string>"
+
+
+def test_default_scene_renders():
+    scene = spar.default_scene()
+    assert scene.label == "(default scene)"
+    r = scene.render(mode=["color", "dop"], resolution=(6, 4), samples=1)
+    assert r["color"].shape == (4, 6, 3)
+    assert r["dop"].shape == (4, 6, 3)
+    assert r.metadata["spar:scene"] == "(default scene)"
+    assert r.stats["rays"] > 0
