@@ -67,6 +67,7 @@ class Settings(TypedDict):
     coherence: str
     spectral: str
     dispersion: str
+    bundle: float
 
 class Scene:
     """A scene: objects, lights and camera as its file gave them, and
@@ -98,6 +99,9 @@ class Scene:
     """"all" or "hero:K"."""
     dispersion: str
     """"on", "off" or "bands:K"."""
+    bundle: float
+    """o/e bundle tolerance in pixel footprints (0: every eigenwave its
+    own ray, the exact tree); needs coherence "incoherent"."""
     quality: Literal["draft", "default", "reference"]
     """Write-only (reading raises AttributeError): applies a preset of
     depth, pruning and approximations (docs/speed-vs-error.md); samples
@@ -125,6 +129,7 @@ class Scene:
         coherence: str | None = ...,
         spectral: str | None = ...,
         dispersion: str | None = ...,
+        bundle: float | None = ...,
     ) -> None:
         """Changes several settings at once, checked together as the
         command line checks its flags (quality is a preset the others
@@ -152,6 +157,7 @@ class Scene:
         coherence: str | None = ...,
         spectral: str | None = ...,
         dispersion: str | None = ...,
+        bundle: float | None = ...,
     ) -> Render:
         """Renders the scene in one or more modes (a name, "color,stokes"
         or a sequence), as `spar render --mode …` does.

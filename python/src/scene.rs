@@ -98,7 +98,7 @@ impl Scene {
 impl Scene {
     /// Changes several settings at once (samples, resolution, wavelengths,
     /// max_depth, prune, seed, quality, branching, polarization,
-    /// coherence, spectral, dispersion), checked together as the command
+    /// coherence, spectral, dispersion, bundle), checked together as the command
     /// line checks its flags: `quality` is a preset the others override.
     /// On an error nothing changes.
     #[pyo3(signature = (**settings))]
@@ -233,6 +233,17 @@ impl Scene {
     #[setter]
     fn set_dispersion(&mut self, value: &Bound<'_, PyAny>) -> PyResult<()> {
         self.set_one("dispersion", value)
+    }
+
+    /// o/e bundle tolerance in pixel footprints (0: every eigenwave its
+    /// own ray); needs coherence "incoherent".
+    #[getter]
+    fn bundle(&self) -> f64 {
+        self.inner.settings.approx.strategy.bundle
+    }
+    #[setter]
+    fn set_bundle(&mut self, value: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.set_one("bundle", value)
     }
 
     /// Applies a quality preset (draft, default, reference): depth,

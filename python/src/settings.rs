@@ -19,7 +19,7 @@ use std::str::FromStr;
 
 /// The settings a scene takes from Python, in the order the docs list
 /// them.
-pub const NAMES: [&str; 12] = [
+pub const NAMES: [&str; 13] = [
     "samples",
     "resolution",
     "wavelengths",
@@ -32,6 +32,7 @@ pub const NAMES: [&str; 12] = [
     "coherence",
     "spectral",
     "dispersion",
+    "bundle",
 ];
 
 /// The Python name of a command-line flag: `--max-depth` → `max_depth`.
@@ -170,6 +171,7 @@ fn set(o: &mut SceneOverrides, name: &str, value: &Bound<'_, PyAny>) -> PyResult
         "coherence" => o.coherence = Some(parsed::<CoherenceModel>(name, value)?),
         "spectral" => o.spectral = Some(parsed::<Spectral>(name, value)?),
         "dispersion" => o.dispersion = Some(parsed::<DispersionMode>(name, value)?),
+        "bundle" => o.bundle = Some(real(name, value)?),
         other => {
             return Err(pyo3::exceptions::PyTypeError::new_err(format!(
                 "unknown setting `{other}`; the settings are {}",
@@ -226,5 +228,6 @@ pub fn as_dict<'py>(py: Python<'py>, scene: &Scene) -> PyResult<Bound<'py, PyDic
     d.set_item("coherence", s.approx.strategy.coherence.to_string())?;
     d.set_item("spectral", s.approx.spectral.to_string())?;
     d.set_item("dispersion", s.approx.dispersion.to_string())?;
+    d.set_item("bundle", s.approx.strategy.bundle)?;
     Ok(d)
 }

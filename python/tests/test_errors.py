@@ -70,6 +70,12 @@ def test_a_bad_setting_is_refused_and_changes_nothing(repo):
         scene.branching = "sometimes"
     with pytest.raises(spar.InputError, match="prune must be a number"):
         scene.prune = float("nan")
+    # Checks across settings are the command line's too.
+    with pytest.raises(spar.InputError, match="bundle needs coherence") as e:
+        scene.bundle = 0.5
+    assert scene.bundle == 0.0
+    scene.set(coherence="incoherent", bundle=0.5)
+    assert (scene.coherence, scene.bundle) == ("incoherent", 0.5)
     with pytest.raises(TypeError, match="unknown setting `depth`"):
         scene.set(depth=3)
 
