@@ -205,14 +205,14 @@ impl Tracer<'_> {
         };
         let (po, pe) = (to.ray.expect("hit").at(ho.t), te.ray.expect("hit").at(he.t));
         let allowed = self.bundle_tolerance() * self.footprint(po);
-        // The members stay together while both reach the same facet plane,
-        // close enough.
+        // The members stay together while both reach the same facet plane
+        // (they are exact rays: how far apart matters only to the waves
+        // that would ride on them, below).
         let together = ho.geom == he.geom && {
             let mesh = &self.scene.objects[ho.geom as usize].mesh;
             let (no, ne) = (mesh.triangle_normal(ho.prim), mesh.triangle_normal(he.prim));
-            let plane = ho.prim == he.prim
-                || (no.dot(ne) > 1.0 - 1e-12 && (po - pe).dot(no).abs() <= self.epsilon(ho.geom));
-            plane && (po - pe).length() <= allowed
+            ho.prim == he.prim
+                || (no.dot(ne) > 1.0 - 1e-12 && (po - pe).dot(no).abs() <= self.epsilon(ho.geom))
         };
         if !together {
             return self.split(
@@ -292,7 +292,11 @@ impl Tracer<'_> {
                 // pixel's angle in pixel footprints from where it should
                 // (nearer sources: less).
                 let drift = b.drift + turn(riding[0], fo).max(turn(riding[1], fe));
-                if drift == 0.0 || drift <= self.bundle_tolerance() * self.pixel_angle() {
+                // A riding wave also starts at the other member's point: at
+                // most TOL pixel footprints away.
+                let close = (po - pe).length() <= allowed;
+                if close && (drift == 0.0 || drift <= self.bundle_tolerance() * self.pixel_angle())
+                {
                     let member = |node: &Node, f: &Feeder| Member {
                         origin: node.ray.at(node.hit.t) + self.epsilon(node.hit.geom) * node.normal,
                         dir: -f.wave.ray,
