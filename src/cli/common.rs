@@ -104,7 +104,7 @@ fn writes(mode: OutputMode) -> String {
             .join(", ")
     };
     match mode {
-        OutputMode::Stokes => "writes float Stokes values, an OpenEXR file (.exr)".into(),
+        m if m.is_stokes() => "writes float Stokes values, an OpenEXR file (.exr)".into(),
         m if m.is_polcam() => format!(
             "writes linear float intensities (.exr) or a display image ({})",
             list(m.extensions().into_iter().filter(|&e| e != "exr").collect())
@@ -118,8 +118,8 @@ fn writes(mode: OutputMode) -> String {
 
 /// What `--wavelength` does for `modes`: the modes as traced (stokes
 /// becomes mono's one wavelength when `--wavelength` is given) and the
-/// Stokes EXR's wavelength. A `--wavelength` no mode uses (color alone)
-/// is refused (exit status 2) rather than ignored.
+/// Stokes EXR's wavelength. A `--wavelength` no mode uses (color or
+/// stokes-rgb alone) is refused (exit status 2) rather than ignored.
 pub fn wavelength_use(
     wavelength: Option<f64>,
     modes: &[OutputMode],
@@ -127,11 +127,18 @@ pub fn wavelength_use(
     let Some(nm) = wavelength else {
         return Ok((modes.to_vec(), None));
     };
-    if modes.iter().all(|&m| m == OutputMode::Color) {
+    if modes.iter().all(|&m| !m.uses_wavelength()) {
+        let names: Vec<&str> = modes.iter().map(|m| m.name()).collect();
+        let users: Vec<&str> = <OutputMode as clap::ValueEnum>::value_variants()
+            .iter()
+            .filter(|m| m.uses_wavelength())
+            .map(|m| m.name())
+            .collect();
         return Err(CliError::input(format!(
-            "--wavelength {nm}: the color mode uses the scene's wavelengths (render.wavelengths, \
-             --wavelengths), not --wavelength; it sets the wavelength of mono, dop, ellipticity, \
-             ellipticity-paper, azimuth, polcam, polcam-mosaic and stokes"
+            "--wavelength {nm}: the {} mode uses the scene's wavelengths (render.wavelengths, \
+             --wavelengths), not --wavelength; it sets the wavelength of {}",
+            names.join(","),
+            users.join(", ")
         )));
     }
     let stokes = modes.contains(&OutputMode::Stokes).then_some(nm);
@@ -321,6 +328,10 @@ pub fn write_modes(
         match f.mode {
             OutputMode::Stokes => {
                 let nms: Vec<String> = stokes_film.lambdas.iter().map(|l| l.to_string()).collect();
+                image = image.with_metadata("spar:wavelengths_nm", nms.join(","));
+            }
+            OutputMode::StokesRgb => {
+                let nms: Vec<String> = colour.lambdas().iter().map(|l| l.to_string()).collect();
                 image = image.with_metadata("spar:wavelengths_nm", nms.join(","));
             }
             m if m.is_polcam() => {

@@ -50,10 +50,11 @@ pub struct ContactSheetArgs {
 }
 
 pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
-    if args.mode.contains(&OutputMode::Stokes) {
-        return Err(CliError::input(
-            "the stokes mode is data (EXR), not a picture: leave it out of a contact sheet",
-        ));
+    if let Some(m) = args.mode.iter().find(|m| m.is_stokes()) {
+        return Err(CliError::input(format!(
+            "the {} mode is data (EXR), not a picture: leave it out of a contact sheet",
+            m.name()
+        )));
     }
     if let Some(m) = args.mode.iter().find(|m| m.is_polcam()) {
         return Err(CliError::input(format!(
@@ -111,7 +112,10 @@ pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
             OutputMode::Ellipticity => format!("b/a {:.0} nm", args.wavelength),
             OutputMode::EllipticityPaper => format!("E paper {:.0} nm", args.wavelength),
             OutputMode::Azimuth => format!("azimuth {:.0} nm", args.wavelength),
-            OutputMode::Stokes | OutputMode::Polcam | OutputMode::PolcamMosaic => {
+            OutputMode::Stokes
+            | OutputMode::StokesRgb
+            | OutputMode::Polcam
+            | OutputMode::PolcamMosaic => {
                 unreachable!("refused above")
             }
         };

@@ -224,9 +224,13 @@ fn checked_job(args: &RenderArgs) -> Result<Job, CliError> {
     if let Some(nm) = args.wavelength {
         check_wavelength(nm)?;
     }
-    if args.mode.contains(&OutputMode::Color) {
+    if let Some(m) = args
+        .mode
+        .iter()
+        .find(|m| matches!(m, OutputMode::Color | OutputMode::StokesRgb))
+    {
         crate::spectrum::Observer::new(&scene.settings.wavelengths)
-            .map_err(|e| CliError::input(format!("wavelengths for the color mode: {e}")))?;
+            .map_err(|e| CliError::input(format!("wavelengths for the {} mode: {e}", m.name())))?;
     }
     let mut modes = args.mode.clone();
     modes.dedup();

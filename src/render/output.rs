@@ -13,7 +13,14 @@
 //! - `stokes`: an EXR of S0..S3 for every traced wavelength, in the Stokes
 //!   frame of [`super::camera`] (Mitsuba 3's: x image right, y image up,
 //!   looking back along the light; S1 > 0 horizontal, S2 > 0 at +45° from
-//!   right toward up, S3 > 0 right-handed as the receiver sees it).
+//!   right toward up, S3 > 0 right-handed as the receiver sees it), in the
+//!   spectral-polarized layout of Fichet, Pacanowski & Wilkie (JCGT 10(3),
+//!   2021): channels `S0.580nm` … ([`stokes_channel`]), linear sRGB preview
+//!   channels `R`, `G`, `B`, and the layout's header attributes
+//!   ([`SPECTRAL_ATTRIBUTES`]).
+//! - `stokes-rgb`: the Stokes vector integrated to linear sRGB per
+//!   component, as Mitsuba 3's `stokes` integrator writes it: `R`, `G`, `B`
+//!   and `S0.R` … `S3.B`.
 //! - `polcam`: a polarization camera: four images of the intensity behind
 //!   ideal linear polarizers at 0°, 45°, 90° and 135° from image right
 //!   toward image up (the Stokes frame's angles), at one wavelength:
@@ -46,6 +53,7 @@ pub enum OutputMode {
     EllipticityPaper,
     Azimuth,
     Stokes,
+    StokesRgb,
     Polcam,
     PolcamMosaic,
 }
@@ -62,6 +70,30 @@ pub enum Storage {
 /// Extensions of display images: PNG in every build, TIFF and JPEG where
 /// OpenImageIO writes them (the `native` feature).
 pub const DISPLAY_EXTENSIONS: [&str; 5] = ["png", "tif", "tiff", "jpg", "jpeg"];
+
+/// The header attributes of the JCGT 2021 spectral layout (Fichet,
+/// Pacanowski & Wilkie, "An OpenEXR Layout for Spectral Images", JCGT
+/// 10(3)) that a `stokes` EXR carries: the layout's version, the unit of
+/// its emissive (`S0`..`S3`) channels, and the handedness of S3 ("right":
+/// S3 > 0 is right-handed circular light, as the layout's reference
+/// implementation and colour-science write it; spar's S3 > 0 is
+/// right-handed, clockwise as the receiver sees it, physics.md §1.4).
+pub const SPECTRAL_ATTRIBUTES: [(&str, &str); 3] = [
+    ("spectralLayoutVersion", "1.0"),
+    ("emissiveUnits", "W.m^-2.sr^-1"),
+    ("polarisationHandedness", "right"),
+];
+
+/// The channel of Stokes component `component` (0..=3) at `nm` in the JCGT
+/// 2021 layout: `S<component>.<wavelength>nm`, the wavelength in nm as the
+/// shortest decimal that reads back as the same number, with a comma as
+/// the decimal separator (a dot separates OpenEXR layers): `S0.580nm`,
+/// `S3.580,5nm`. The layout's readers parse the number before the unit
+/// (`nm`) with an optional comma and exponent (its reference code and
+/// colour-science's `read_spectral_image_Fichet2021`).
+pub fn stokes_channel(component: usize, nm: f64) -> String {
+    format!("S{component}.{}nm", format!("{nm}").replace('.', ","))
+}
 
 /// The polarizer angles of `polcam`'s four images, degrees from image
 /// right toward image up, in the order of its files.
@@ -109,6 +141,7 @@ impl OutputMode {
             OutputMode::EllipticityPaper => "ellipticity-paper",
             OutputMode::Azimuth => "azimuth",
             OutputMode::Stokes => "stokes",
+            OutputMode::StokesRgb => "stokes-rgb",
             OutputMode::Polcam => "polcam",
             OutputMode::PolcamMosaic => "polcam-mosaic",
         }
@@ -119,7 +152,7 @@ impl OutputMode {
     /// not fit it).
     pub fn extension(self) -> &'static str {
         match self {
-            OutputMode::Stokes => "exr",
+            OutputMode::Stokes | OutputMode::StokesRgb => "exr",
             _ => "png",
         }
     }
@@ -133,7 +166,7 @@ impl OutputMode {
         let exr = ext == "exr";
         let display = DISPLAY_EXTENSIONS.contains(&ext.as_str());
         match self {
-            OutputMode::Stokes => exr.then_some(Storage::Float),
+            OutputMode::Stokes | OutputMode::StokesRgb => exr.then_some(Storage::Float),
             OutputMode::Polcam | OutputMode::PolcamMosaic if exr => Some(Storage::Float),
             _ => display.then_some(Storage::Display),
         }
@@ -166,7 +199,23 @@ impl OutputMode {
     /// True for modes that need the colour wavelength set (the others use
     /// one wavelength).
     pub fn is_spectral(self) -> bool {
-        matches!(self, OutputMode::Color | OutputMode::Stokes)
+        matches!(
+            self,
+            OutputMode::Color | OutputMode::Stokes | OutputMode::StokesRgb
+        )
+    }
+
+    /// True for the modes `--wavelength` sets (the single-wavelength modes
+    /// and `stokes`); `color` and `stokes-rgb` integrate the colour
+    /// wavelengths and never use it.
+    pub fn uses_wavelength(self) -> bool {
+        !matches!(self, OutputMode::Color | OutputMode::StokesRgb)
+    }
+
+    /// True for the modes whose file holds float values rather than a
+    /// display image whatever its extension (`stokes`, `stokes-rgb`).
+    pub fn is_stokes(self) -> bool {
+        matches!(self, OutputMode::Stokes | OutputMode::StokesRgb)
     }
 
     /// True for the polarization-camera modes (`polcam`, `polcam-mosaic`).
@@ -260,6 +309,38 @@ fn polcam_image(
     .map_err(|e| e.to_string())
 }
 
+/// The observer of the colour wavelengths and each one's index in the
+/// film, if the film holds them all and they carry colour.
+fn colour_indices(film: &Film, colour: &WavelengthSet) -> Option<(Observer, Vec<usize>)> {
+    let idx: Option<Vec<usize>> = colour
+        .lambdas()
+        .iter()
+        .map(|&l| film.lambda_index(l))
+        .collect();
+    Some((Observer::new(colour).ok()?, idx?))
+}
+
+/// Stokes component `c` integrated to linear sRGB over the colour
+/// wavelengths `idx` (the CIE 1931 observer, then the sRGB matrix: linear,
+/// so it holds for the signed S1..S3 as for S0): three planes R, G, B.
+fn stokes_rgb_planes(film: &Film, observer: &Observer, idx: &[usize], c: usize) -> [Vec<f32>; 3] {
+    let npix = film.width as usize * film.height as usize;
+    let mut out: [Vec<f32>; 3] = std::array::from_fn(|_| Vec::with_capacity(npix));
+    let mut spectrum = vec![0.0; idx.len()];
+    for y in 0..film.height {
+        for x in 0..film.width {
+            for (v, &i) in spectrum.iter_mut().zip(idx) {
+                *v = film.stokes(x, y, i)[c];
+            }
+            let rgb = observer.linear_srgb(&spectrum);
+            for k in 0..3 {
+                out[k].push(rgb[k] as f32);
+            }
+        }
+    }
+    out
+}
+
 /// Develops a film into the image of `mode`. `colour` is the wavelength set
 /// for `color` (its wavelengths must be in the film), `mono_nm` the
 /// wavelength of the single-wavelength maps. `polcam`, four images, is
@@ -313,22 +394,44 @@ pub fn develop(
             rgb_image(out)
         }
         OutputMode::Stokes => {
-            let single = film.lambdas.len() == 1;
             let mut planes: Vec<(String, Vec<f32>)> = Vec::new();
+            // The preview: linear sRGB of S0 over the colour wavelengths
+            // (a white light of radiance 1 is (1, 1, 1)), where the film
+            // holds them (not for a --wavelength file of one wavelength).
+            if let Some((observer, idx)) = colour_indices(film, colour) {
+                let rgb = stokes_rgb_planes(film, &observer, &idx, 0);
+                planes.extend(["R", "G", "B"].iter().map(|c| c.to_string()).zip(rgb));
+            }
             for (i, &l) in film.lambdas.iter().enumerate() {
                 for c in 0..4 {
-                    let name = if single {
-                        format!("S{c}")
-                    } else {
-                        format!("S{c}_{l:.0}nm")
-                    };
                     let mut plane = Vec::with_capacity(npix);
                     for y in 0..h {
                         for x in 0..w {
                             plane.push(film.stokes(x, y, i)[c] as f32);
                         }
                     }
-                    planes.push((name, plane));
+                    planes.push((stokes_channel(c, l), plane));
+                }
+            }
+            let mut image =
+                Image::from_planes(w as usize, h as usize, planes).map_err(|e| e.to_string())?;
+            for (k, v) in SPECTRAL_ATTRIBUTES {
+                image = image.with_metadata(k, v);
+            }
+            Ok(image)
+        }
+        OutputMode::StokesRgb => {
+            let (observer, idx) = colour_indices(film, colour).ok_or_else(|| {
+                "the stokes-rgb mode needs the colour wavelengths in the film".to_string()
+            })?;
+            let mut planes: Vec<(String, Vec<f32>)> = Vec::new();
+            for c in 0..4 {
+                let rgb = stokes_rgb_planes(film, &observer, &idx, c);
+                for (name, plane) in ["R", "G", "B"].iter().zip(rgb) {
+                    if c == 0 {
+                        planes.push((name.to_string(), plane.clone()));
+                    }
+                    planes.push((format!("S{c}.{name}"), plane));
                 }
             }
             Image::from_planes(w as usize, h as usize, planes).map_err(|e| e.to_string())
@@ -397,6 +500,15 @@ mod tests {
     }
 
     #[test]
+    fn stokes_channels_follow_the_jcgt_2021_names() {
+        assert_eq!(stokes_channel(0, 580.0), "S0.580nm");
+        assert_eq!(stokes_channel(3, 580.5), "S3.580,5nm");
+        assert_eq!(stokes_channel(1, 412.25), "S1.412,25nm");
+        // No dot but the layer's: OpenEXR reads `S2` as the layer.
+        assert_eq!(stokes_channel(2, 700.125).matches('.').count(), 1);
+    }
+
+    #[test]
     fn the_mosaic_repeats_90_45_over_135_0() {
         let block: Vec<u32> = [(0, 0), (1, 0), (0, 1), (1, 1)]
             .iter()
@@ -418,9 +530,12 @@ mod tests {
         assert_eq!(Color.storage("Tiff"), Some(Storage::Display));
         assert_eq!(Color.storage("txt"), None);
         assert_eq!(Stokes.extensions(), ["exr"]);
+        assert_eq!(StokesRgb.extensions(), ["exr"]);
+        assert!(!StokesRgb.uses_wavelength() && !Color.uses_wavelength());
+        assert!(Stokes.uses_wavelength() && Dop.uses_wavelength());
         assert_eq!(Polcam.extensions()[..2], ["exr", "png"]);
         assert_eq!(Mono.extensions()[0], "png");
-        for m in [Color, Mono, Dop, Stokes, Polcam, PolcamMosaic] {
+        for m in [Color, Mono, Dop, Stokes, StokesRgb, Polcam, PolcamMosaic] {
             assert!(m.storage(m.extension()).is_some(), "{m:?}");
         }
         assert_eq!(Polcam.parts().len(), 4);

@@ -20,7 +20,7 @@ corners = [[-2.0, -2.0, 0.0], [2.0, -2.0, 0.0], [2.0, 2.0, 0.0], [-2.0, 2.0, 0.0
 polarization = { linear = [0.0, 1.0, 0.0] }
 "#;
 
-const MODES: [&str; 9] = [
+const MODES: [&str; 10] = [
     "color",
     "mono",
     "dop",
@@ -28,15 +28,30 @@ const MODES: [&str; 9] = [
     "ellipticity-paper",
     "azimuth",
     "stokes",
+    "stokes-rgb",
     "polcam",
     "polcam-mosaic",
 ];
+
+/// MODES is every camera mode spar has, so every mode's names are checked.
+#[test]
+fn the_modes_checked_are_every_mode() {
+    use clap::ValueEnum;
+    let mut all: Vec<&str> = spar::render::output::OutputMode::value_variants()
+        .iter()
+        .map(|m| m.name())
+        .collect();
+    let mut checked = MODES.to_vec();
+    all.sort_unstable();
+    checked.sort_unstable();
+    assert_eq!(checked, all);
+}
 
 /// The extensions a mode's file may have (docs/outputs.md), lower case;
 /// the first is the one a name without extension gets.
 fn fitting(mode: &str) -> &'static [&'static str] {
     match mode {
-        "stokes" => &["exr"],
+        "stokes" | "stokes-rgb" => &["exr"],
         "polcam" | "polcam-mosaic" => &["png", "exr", "tif", "tiff", "jpg", "jpeg"],
         _ => &["png", "tif", "tiff", "jpg", "jpeg"],
     }
@@ -214,7 +229,10 @@ fn wavelength_is_used_by_stokes_and_refused_where_no_mode_uses_it() {
         ],
     );
     let one = spar::image::read(&d.join("one.exr")).unwrap();
-    assert_eq!(one.channels(), ["S0", "S1", "S2", "S3"]);
+    assert_eq!(
+        one.channels(),
+        ["S0.600nm", "S1.600nm", "S2.600nm", "S3.600nm"]
+    );
     assert_eq!(one.metadata()["spar:wavelengths_nm"], "600");
     assert!(
         one.metadata()["spar:settings"].contains(" lambdas=[600.0] "),
@@ -238,13 +256,13 @@ fn wavelength_is_used_by_stokes_and_refused_where_no_mode_uses_it() {
     let three = spar::image::read(&d.join("three.exr")).unwrap();
     assert_eq!(three.metadata()["spar:wavelengths_nm"], "500,600,700");
     for c in 0..4 {
-        let a = one.channel(&format!("S{c}")).unwrap();
-        let b = three.channel(&format!("S{c}_600nm")).unwrap();
+        let a = one.channel(&format!("S{c}.600nm")).unwrap();
+        let b = three.channel(&format!("S{c}.600nm")).unwrap();
         for (x, y) in a.iter().zip(&b) {
             assert!((x - y).abs() <= 1e-6 * x.abs().max(1.0), "S{c}: {x} vs {y}");
         }
     }
-    let s0 = one.channel("S0").unwrap();
+    let s0 = one.channel("S0.600nm").unwrap();
     let d65 = spar::spectrum::cie::d65(600.0) as f32;
     assert!(
         s0.iter().all(|&v| (v - 0.5 * d65).abs() < 1e-3 * d65),
@@ -267,7 +285,10 @@ fn wavelength_is_used_by_stokes_and_refused_where_no_mode_uses_it() {
         ],
     );
     let both = spar::image::read(&d.join("both-stokes.exr")).unwrap();
-    assert_eq!(both.channels(), ["S0", "S1", "S2", "S3"]);
+    assert_eq!(
+        both.channels(),
+        ["S0.600nm", "S1.600nm", "S2.600nm", "S3.600nm"]
+    );
     assert!(d.join("both-color.png").exists());
 
     // spar develop: --wavelength picks the Stokes EXR's wavelength from
@@ -301,7 +322,10 @@ fn wavelength_is_used_by_stokes_and_refused_where_no_mode_uses_it() {
     );
     let dev = spar::image::read(&d.join("dev.exr")).unwrap();
     assert_eq!(dev.metadata()["spar:wavelengths_nm"], "580");
-    assert_eq!(dev.channels(), ["S0", "S1", "S2", "S3"]);
+    assert_eq!(
+        dev.channels(),
+        ["S0.580nm", "S1.580nm", "S2.580nm", "S3.580nm"]
+    );
     for (args, needle) in [
         (
             vec!["--mode", "color", "--wavelength", "580", "-o", "c.png"],

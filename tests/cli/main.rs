@@ -17,4 +17,5 @@ mod cli_polcam;
 mod cli_render_errors;
 mod cli_render_outputs;
 mod cli_speed_error;
+mod cli_stokes_exr;
 mod readme_ci;

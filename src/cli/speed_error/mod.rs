@@ -125,14 +125,10 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
 fn display_modes(asked: &[OutputMode]) -> Result<Vec<OutputMode>, CliError> {
     let mut modes = asked.to_vec();
     modes.dedup();
-    if modes.is_empty()
-        || modes
-            .iter()
-            .any(|m| *m == OutputMode::Stokes || m.is_polcam())
-    {
+    if modes.is_empty() || modes.iter().any(|m| m.is_stokes() || m.is_polcam()) {
         return Err(CliError::input(
             "--mode: give display modes (color, mono, dop, ellipticity, ellipticity-paper, \
-             azimuth); stokes, polcam and polcam-mosaic have no display error",
+             azimuth); stokes, stokes-rgb, polcam and polcam-mosaic have no display error",
         ));
     }
     Ok(modes)
