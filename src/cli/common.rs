@@ -6,7 +6,7 @@ use super::error::CliError;
 use crate::farm::progress::Reporter;
 use crate::image::{Image, PixelType, WriteOptions};
 use crate::render::film::Film;
-use crate::render::output::{develop, develop_files, OutputMode, Storage};
+use crate::render::output::{develop, develop_files, map_of, OutputMode, Storage};
 use crate::scene::{builtin, Scene};
 use crate::spectrum::WavelengthSet;
 use std::path::{Path, PathBuf};
@@ -321,6 +321,10 @@ pub fn write_modes(
             developed = Some((f.mode, images));
         }
         let mut image = developed.as_ref().expect("developed above").1[f.part].clone();
+        // The false-colour maps carry their legend in display images.
+        if let (Storage::Display, Some(map)) = (f.storage, map_of(f.mode, f.part)) {
+            image = super::legend::with_legend(&image, map)?;
+        }
         for (k, v) in metadata {
             image = image.with_metadata(k.clone(), v.clone());
         }

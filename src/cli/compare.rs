@@ -212,6 +212,12 @@ pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
     if modes.is_empty() {
         return Err(CliError::input("--mode needs at least one mode"));
     }
+    if modes.contains(&OutputMode::PolvisStokes) {
+        return Err(CliError::input(
+            "--mode polvis-stokes: spar compare does not compare its three images; compare \
+             stokes instead",
+        ));
+    }
     if let Some(m) = modes.iter().find(|m| m.is_polcam()) {
         return Err(CliError::input(format!(
             "--mode {}: spar compare does not compare the polarization camera's images; compare \

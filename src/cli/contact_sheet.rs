@@ -56,6 +56,11 @@ pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
             m.name()
         )));
     }
+    if args.mode.contains(&OutputMode::PolvisStokes) {
+        return Err(CliError::input(
+            "the polvis-stokes mode is three images (S1, S2, S3): render it with spar render",
+        ));
+    }
     if let Some(m) = args.mode.iter().find(|m| m.is_polcam()) {
         return Err(CliError::input(format!(
             "the {} mode is a polarization camera's raw images, not a panel: render it with \
@@ -112,10 +117,17 @@ pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
             OutputMode::Ellipticity => format!("b/a {:.0} nm", args.wavelength),
             OutputMode::EllipticityPaper => format!("E paper {:.0} nm", args.wavelength),
             OutputMode::Azimuth => format!("azimuth {:.0} nm", args.wavelength),
+            OutputMode::Aolp
+            | OutputMode::Dolp
+            | OutputMode::PolvisDop
+            | OutputMode::PolvisTop
+            | OutputMode::PolvisLin
+            | OutputMode::PolvisCir => format!("{} {:.0} nm", mode.name(), args.wavelength),
             OutputMode::Stokes
             | OutputMode::StokesRgb
             | OutputMode::Polcam
-            | OutputMode::PolcamMosaic => {
+            | OutputMode::PolcamMosaic
+            | OutputMode::PolvisStokes => {
                 unreachable!("refused above")
             }
         };

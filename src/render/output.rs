@@ -21,6 +21,14 @@
 //! - `stokes-rgb`: the Stokes vector integrated to linear sRGB per
 //!   component, as Mitsuba 3's `stokes` integrator writes it: `R`, `G`, `B`
 //!   and `S0.R` … `S3.B`.
+//! - `aolp`, `dolp`: polarization-camera practice as polanalyser draws it
+//!   (`polanalyser/vis/polar_colorize.py`): the angle of linear
+//!   polarization as hue over [0°, 180°) with the degree of linear
+//!   polarization as value; DoLP as a black-to-red ramp ([`Map`]).
+//! - `polvis-stokes`, `polvis-dop`, `polvis-top`, `polvis-lin`,
+//!   `polvis-cir`: the false colours of Wilkie & Weidlich, "A Standardised
+//!   Polarisation Visualisation for Images" (SCCG 2010), as Mitsuba 3's
+//!   `polvis.py` draws them ([`Map`]).
 //! - `polcam`: a polarization camera: four images of the intensity behind
 //!   ideal linear polarizers at 0°, 45°, 90° and 135° from image right
 //!   toward image up (the Stokes frame's angles), at one wavelength:
@@ -56,6 +64,180 @@ pub enum OutputMode {
     StokesRgb,
     Polcam,
     PolcamMosaic,
+    Aolp,
+    Dolp,
+    PolvisStokes,
+    PolvisDop,
+    PolvisTop,
+    PolvisLin,
+    PolvisCir,
+}
+
+/// A false-colour map of the field's conventions: the colour of each
+/// pixel from its Stokes vector alone ([`Map::colour`]), with a legend
+/// ([`Map::legend`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Map {
+    /// AoLP = ½ atan2(S2, S1) in [0°, 180°) as hue (0° red, 60° green,
+    /// 120° blue, the full hue circle over 180°), DoLP = √(S1² + S2²)/S0
+    /// as value: polanalyser's `colorize_aolp(aolp, dolp_val=dolp)`.
+    Aolp,
+    /// DoLP from black (0) to red (1): polanalyser's `colorize_dop`.
+    Dolp,
+    /// S1/S0, S2/S0 or S3/S0 (component 1..=3): red where negative,
+    /// green where positive (polvis `--stokes_nrm`).
+    Stokes(usize),
+    /// The degree of polarization √(S1² + S2² + S3²)/S0 in red (polvis
+    /// `--dop`).
+    Dop,
+    /// The type of polarization: cyan linear, yellow circular, in
+    /// between for elliptical light, scaled by DoP (polvis `--top`).
+    Type,
+    /// The orientation of the linear part: S1/S0 red (−) / green (+) plus
+    /// S2/S0 blue (−) / yellow (+), scaled by the linear share of the
+    /// polarized light (polvis `--lin`).
+    Linear,
+    /// The chirality of the circular part: blue for S3 > 0, yellow for
+    /// S3 < 0, scaled by the circular share (polvis `--cir`).
+    Circular,
+}
+
+/// A map's legend: a title, a bar whose pixel at (x, y) ∈ [0, 1]² (x to
+/// the right, y down) shows the map's colour of the Stokes vector
+/// [`Legend::stokes`] gives, and labels at positions along x.
+pub struct Legend {
+    pub title: &'static str,
+    pub ticks: Vec<(f64, String)>,
+    /// The Stokes vector the bar shows at (x, y).
+    pub stokes: fn(f64, f64) -> [f64; 4],
+}
+
+impl Map {
+    /// The display colour of a pixel whose Stokes vector is `s`: three
+    /// values in [0, 1] as stored (already display-encoded: polvis's
+    /// linear colours through the sRGB curve, as Mitsuba's Bitmap writes
+    /// them; polanalyser's colours are defined on display values and are
+    /// stored as they are). Black where S0 ≤ 0 or the value is undefined.
+    pub fn colour(self, s: [f64; 4]) -> [f64; 3] {
+        if !(s[0] > 0.0) || s.iter().any(|v| !v.is_finite()) {
+            return [0.0; 3];
+        }
+        let n = [s[1] / s[0], s[2] / s[0], s[3] / s[0]];
+        let lin = n[0].hypot(n[1]);
+        let all = lin.hypot(n[2]);
+        let dop = all.min(1.0);
+        // The linear and circular shares of the polarized part (polvis's
+        // rdop_l and rdop_c, with |S3| as polvis takes it).
+        let (share_l, share_c) = if all > 0.0 {
+            (lin / all, n[2].abs() / all)
+        } else {
+            (0.0, 0.0)
+        };
+        let pos = |v: f64| v.max(0.0);
+        let polvis = |c: [f64; 3]| c.map(|v| srgb::encode(v.clamp(0.0, 1.0)));
+        match self {
+            Map::Aolp => {
+                let aolp = (0.5 * n[1].atan2(n[0])).rem_euclid(std::f64::consts::PI);
+                let c = hue(aolp / std::f64::consts::PI);
+                c.map(|v| v * lin.min(1.0))
+            }
+            Map::Dolp => [lin.min(1.0), 0.0, 0.0],
+            Map::Stokes(k) => {
+                let v = n[k - 1].clamp(-1.0, 1.0);
+                polvis([pos(-v), pos(v), 0.0])
+            }
+            Map::Dop => polvis([dop, 0.0, 0.0]),
+            Map::Type => polvis([share_c, share_l + share_c, share_l].map(|v| v * dop)),
+            Map::Linear => {
+                let (a, b) = (n[0].clamp(-1.0, 1.0), n[1].clamp(-1.0, 1.0));
+                polvis([pos(-a) + pos(b), pos(a) + pos(b), pos(-b)].map(|v| v * share_l))
+            }
+            Map::Circular => {
+                let c = n[2].clamp(-1.0, 1.0);
+                polvis([pos(-c), pos(-c), pos(c)].map(|v| v * share_c))
+            }
+        }
+    }
+
+    /// The map's legend.
+    pub fn legend(self) -> Legend {
+        let signed = |t: &'static str| Legend {
+            title: t,
+            ticks: vec![(0.0, "-1".into()), (0.5, "0".into()), (1.0, "+1".into())],
+            stokes: |x, _| [1.0, 2.0 * x - 1.0, 0.0, 0.0],
+        };
+        let degrees = |t: &'static str, f: fn(f64, f64) -> [f64; 4]| Legend {
+            title: t,
+            ticks: (0..=4)
+                .map(|i| (i as f64 / 4.0, format!("{}°", 45 * i)))
+                .collect(),
+            stokes: f,
+        };
+        match self {
+            Map::Aolp => degrees(
+                "AoLP as hue (from image right toward up), DoLP as brightness",
+                |x, y| {
+                    let t = 2.0 * std::f64::consts::PI * x;
+                    [1.0, (1.0 - y) * t.cos(), (1.0 - y) * t.sin(), 0.0]
+                },
+            ),
+            Map::Dolp => Legend {
+                title: "DoLP",
+                ticks: vec![(0.0, "0".into()), (0.5, "0.5".into()), (1.0, "1".into())],
+                stokes: |x, _| [1.0, x, 0.0, 0.0],
+            },
+            Map::Stokes(1) => signed("S1/S0: red -, green + (horizontal)"),
+            Map::Stokes(2) => Legend {
+                stokes: |x, _| [1.0, 0.0, 2.0 * x - 1.0, 0.0],
+                ..signed("S2/S0: red -, green + (+45°)")
+            },
+            Map::Stokes(_) => Legend {
+                stokes: |x, _| [1.0, 0.0, 0.0, 2.0 * x - 1.0],
+                ..signed("S3/S0: red -, green + (right-handed)")
+            },
+            Map::Dop => Legend {
+                title: "degree of polarization",
+                ticks: vec![(0.0, "0".into()), (0.5, "0.5".into()), (1.0, "1".into())],
+                stokes: |x, _| [1.0, x, 0.0, 0.0],
+            },
+            Map::Type => Legend {
+                title: "type: linear cyan, circular yellow (x DoP)",
+                ticks: vec![(0.0, "linear".into()), (1.0, "circular".into())],
+                // The ellipticity angle from 0 to 45°, fully polarized.
+                stokes: |x, _| {
+                    let t = std::f64::consts::FRAC_PI_2 * x;
+                    [1.0, t.cos(), 0.0, t.sin()]
+                },
+            },
+            Map::Linear => degrees("orientation of the linear part", |x, _| {
+                let t = 2.0 * std::f64::consts::PI * x;
+                [1.0, t.cos(), t.sin(), 0.0]
+            }),
+            Map::Circular => Legend {
+                title: "chirality: S3 < 0 yellow, S3 > 0 (right-handed) blue",
+                ticks: vec![(0.0, "-1".into()), (0.5, "0".into()), (1.0, "+1".into())],
+                stokes: |x, _| {
+                    let c = 2.0 * x - 1.0;
+                    [1.0, (1.0 - c * c).max(0.0).sqrt(), 0.0, c]
+                },
+            },
+        }
+    }
+}
+
+/// The legend and false-colour bar of a display map's PNG: [`Map`] of
+/// `mode`'s `part`, if it is one.
+pub fn map_of(mode: OutputMode, part: usize) -> Option<Map> {
+    Some(match mode {
+        OutputMode::Aolp => Map::Aolp,
+        OutputMode::Dolp => Map::Dolp,
+        OutputMode::PolvisStokes => Map::Stokes(part + 1),
+        OutputMode::PolvisDop => Map::Dop,
+        OutputMode::PolvisTop => Map::Type,
+        OutputMode::PolvisLin => Map::Linear,
+        OutputMode::PolvisCir => Map::Circular,
+        _ => return None,
+    })
 }
 
 /// How a mode's file holds its values.
@@ -144,6 +326,13 @@ impl OutputMode {
             OutputMode::StokesRgb => "stokes-rgb",
             OutputMode::Polcam => "polcam",
             OutputMode::PolcamMosaic => "polcam-mosaic",
+            OutputMode::Aolp => "aolp",
+            OutputMode::Dolp => "dolp",
+            OutputMode::PolvisStokes => "polvis-stokes",
+            OutputMode::PolvisDop => "polvis-dop",
+            OutputMode::PolvisTop => "polvis-top",
+            OutputMode::PolvisLin => "polvis-lin",
+            OutputMode::PolvisCir => "polvis-cir",
         }
     }
 
@@ -192,6 +381,7 @@ impl OutputMode {
     pub fn parts(self) -> &'static [&'static str] {
         match self {
             OutputMode::Polcam => &["000", "045", "090", "135"],
+            OutputMode::PolvisStokes => &["s1", "s2", "s3"],
             _ => &[""],
         }
     }
@@ -265,6 +455,9 @@ pub fn develop_files(
             .map(|&a| polcam_image(film, mono_nm, storage, |_, _| a))
             .collect(),
         OutputMode::PolcamMosaic => Ok(vec![polcam_image(film, mono_nm, storage, mosaic_angle)?]),
+        OutputMode::PolvisStokes => (1..=3)
+            .map(|k| map_image(film, Map::Stokes(k), mono_nm))
+            .collect(),
         _ => develop(film, mode, colour, mono_nm).map(|i| vec![i]),
     }
 }
@@ -339,6 +532,27 @@ fn stokes_rgb_planes(film: &Film, observer: &Observer, idx: &[usize], c: usize) 
         }
     }
     out
+}
+
+/// The false-colour map `map` of the film at `nm` (the values
+/// [`Map::colour`] gives, without legend).
+pub fn map_image(film: &Film, map: Map, nm: f64) -> Result<Image, String> {
+    let i = film
+        .lambda_index(nm)
+        .ok_or_else(|| format!("wavelength {nm} nm was not traced"))?;
+    let mut out = Vec::with_capacity(film.width as usize * film.height as usize * 3);
+    for y in 0..film.height {
+        for x in 0..film.width {
+            out.extend(map.colour(film.stokes(x, y, i)).map(|v| v as f32));
+        }
+    }
+    Image::new(
+        film.width as usize,
+        film.height as usize,
+        vec!["R".into(), "G".into(), "B".into()],
+        out,
+    )
+    .map_err(|e| e.to_string())
 }
 
 /// Develops a film into the image of `mode`. `colour` is the wavelength set
@@ -441,6 +655,8 @@ pub fn develop(
                 .into(),
         ),
         OutputMode::PolcamMosaic => polcam_image(film, mono_nm, Storage::Display, mosaic_angle),
+        OutputMode::PolvisStokes => map_image(film, Map::Stokes(1), mono_nm),
+        m if map_of(m, 0).is_some() => map_image(film, map_of(m, 0).expect("a map"), mono_nm),
         _ => {
             let i = film
                 .lambda_index(mono_nm)
@@ -506,6 +722,71 @@ mod tests {
         assert_eq!(stokes_channel(1, 412.25), "S1.412,25nm");
         // No dot but the layer's: OpenEXR reads `S2` as the layer.
         assert_eq!(stokes_channel(2, 700.125).matches('.').count(), 1);
+    }
+
+    /// The field's colours for states whose colour the conventions name.
+    #[test]
+    fn maps_give_the_conventions_colours() {
+        let h = [1.0, 1.0, 0.0, 0.0]; // horizontal
+        let v = [1.0, -1.0, 0.0, 0.0]; // vertical
+        let d = [1.0, 0.0, 1.0, 0.0]; // +45°
+        let r = [1.0, 0.0, 0.0, 1.0]; // right-handed circular
+        let l = [1.0, 0.0, 0.0, -1.0];
+        let unpolarized = [1.0, 0.0, 0.0, 0.0];
+        let (red, green, blue) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]);
+        let (cyan, yellow, black) = ([0.0, 1.0, 1.0], [1.0, 1.0, 0.0], [0.0; 3]);
+        let near = |a: [f64; 3], b: [f64; 3]| a.iter().zip(&b).all(|(x, y)| (x - y).abs() < 1e-12);
+        for (map, s, want) in [
+            (Map::Stokes(1), h, green),
+            (Map::Stokes(1), v, red),
+            (Map::Stokes(2), d, green),
+            (Map::Stokes(3), l, red),
+            (Map::Dop, r, red),
+            (Map::Dop, unpolarized, black),
+            (Map::Type, h, cyan),
+            (Map::Type, r, yellow),
+            (Map::Type, unpolarized, black),
+            (Map::Linear, h, green),
+            (Map::Linear, v, red),
+            (Map::Linear, d, yellow),
+            (Map::Linear, [1.0, 0.0, -1.0, 0.0], blue),
+            (Map::Linear, r, black),
+            (Map::Circular, r, blue),
+            (Map::Circular, l, yellow),
+            (Map::Circular, h, black),
+            (Map::Aolp, h, red),
+            (Map::Aolp, v, cyan),
+            // 60°: a third of the hue circle.
+            (Map::Aolp, [1.0, -0.5, 0.75f64.sqrt(), 0.0], green),
+            (Map::Aolp, r, black),
+            (Map::Dolp, d, red),
+            (Map::Dolp, [2.0, 0.0, 0.0, 0.0], black),
+            (Map::Dop, [0.0, 0.0, 0.0, 0.0], black),
+        ] {
+            assert!(
+                near(map.colour(s), want),
+                "{map:?} of {s:?}: {:?}",
+                map.colour(s)
+            );
+        }
+        // Half polarized: polanalyser scales its colours on display values
+        // (value 0.5); polvis encodes its linear 0.5 with the sRGB curve.
+        let half = [1.0, 0.5, 0.0, 0.0];
+        assert!(near(Map::Aolp.colour(half), [0.5, 0.0, 0.0]));
+        assert!(near(Map::Dolp.colour(half), [0.5, 0.0, 0.0]));
+        assert!(near(Map::Dop.colour(half), [srgb::encode(0.5), 0.0, 0.0]));
+        // The legends' bars span the conventions' colours.
+        let ends = |m: Map| {
+            let l = m.legend();
+            (
+                m.colour((l.stokes)(0.0, 0.0)),
+                m.colour((l.stokes)(1.0, 0.0)),
+            )
+        };
+        assert!(near(ends(Map::Stokes(2)).0, red) && near(ends(Map::Stokes(2)).1, green));
+        assert!(near(ends(Map::Type).0, cyan) && near(ends(Map::Type).1, yellow));
+        assert!(near(ends(Map::Circular).0, yellow) && near(ends(Map::Circular).1, blue));
+        assert!(near(ends(Map::Dolp).1, red) && near(ends(Map::Aolp).0, red));
     }
 
     #[test]

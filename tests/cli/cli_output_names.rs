@@ -20,7 +20,7 @@ corners = [[-2.0, -2.0, 0.0], [2.0, -2.0, 0.0], [2.0, 2.0, 0.0], [-2.0, 2.0, 0.0
 polarization = { linear = [0.0, 1.0, 0.0] }
 "#;
 
-const MODES: [&str; 10] = [
+const MODES: [&str; 17] = [
     "color",
     "mono",
     "dop",
@@ -31,6 +31,13 @@ const MODES: [&str; 10] = [
     "stokes-rgb",
     "polcam",
     "polcam-mosaic",
+    "aolp",
+    "dolp",
+    "polvis-stokes",
+    "polvis-dop",
+    "polvis-top",
+    "polvis-lin",
+    "polvis-cir",
 ];
 
 /// MODES is every camera mode spar has, so every mode's names are checked.
@@ -114,14 +121,26 @@ fn every_mode_and_extension_is_written_or_refused_with_the_name_to_use() {
                         .iter()
                         .map(|a| format!("x-{a}.{ext}"))
                         .collect()
+                } else if mode == "polvis-stokes" {
+                    ["s1", "s2", "s3"]
+                        .iter()
+                        .map(|a| format!("x-{a}.{ext}"))
+                        .collect()
                 } else {
                     vec![format!("x.{ext}")]
                 };
                 assert_eq!(written(d), expected, "{what}");
                 // Float EXR where the name asks for it, display images
                 // otherwise: readable, the size of the render.
+                // The false-colour maps have their legend below (at least
+                // spar::cli::legend::MIN_WIDTH wide).
                 let img = spar::image::read(&d.join(&expected[0])).unwrap();
-                assert_eq!((img.width(), img.height()), (4, 3), "{what}");
+                let size = if mode == "aolp" || mode == "dolp" || mode.starts_with("polvis") {
+                    (spar::cli::legend::MIN_WIDTH, 3 + spar::cli::legend::HEIGHT)
+                } else {
+                    (4, 3)
+                };
+                assert_eq!((img.width(), img.height()), size, "{what}");
             } else {
                 assert_eq!(code, 2, "{what}");
                 if pure_refusal {

@@ -12,6 +12,7 @@ mod cli_compare;
 mod cli_exit_status;
 mod cli_interface;
 mod cli_limits;
+mod cli_maps;
 mod cli_output_names;
 mod cli_polcam;
 mod cli_render_errors;

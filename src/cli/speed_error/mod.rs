@@ -128,7 +128,8 @@ fn display_modes(asked: &[OutputMode]) -> Result<Vec<OutputMode>, CliError> {
     if modes.is_empty() || modes.iter().any(|m| m.is_stokes() || m.is_polcam()) {
         return Err(CliError::input(
             "--mode: give display modes (color, mono, dop, ellipticity, ellipticity-paper, \
-             azimuth); stokes, stokes-rgb, polcam and polcam-mosaic have no display error",
+             azimuth, aolp, dolp, polvis-dop, polvis-top, polvis-lin, polvis-cir); stokes, \
+             stokes-rgb, polcam, polcam-mosaic and polvis-stokes have no display error",
         ));
     }
     Ok(modes)
