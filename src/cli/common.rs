@@ -316,8 +316,11 @@ pub fn write_modes(
                 OutputMode::Stokes => stokes_film,
                 _ => film,
             };
-            let images =
-                develop_files(film, f.mode, colour, mono_nm, f.storage).map_err(CliError::input)?;
+            let images = if f.mode == OutputMode::Sheet {
+                vec![super::legend::sheet(film, colour, mono_nm)?.0]
+            } else {
+                develop_files(film, f.mode, colour, mono_nm, f.storage).map_err(CliError::input)?
+            };
             developed = Some((f.mode, images));
         }
         let mut image = developed.as_ref().expect("developed above").1[f.part].clone();

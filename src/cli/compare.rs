@@ -212,6 +212,11 @@ pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
     if modes.is_empty() {
         return Err(CliError::input("--mode needs at least one mode"));
     }
+    if modes.contains(&OutputMode::Sheet) {
+        return Err(CliError::input(
+            "--mode sheet: spar compare compares modes, not the sheet: give color,polvis-dop,aolp",
+        ));
+    }
     if modes.contains(&OutputMode::PolvisStokes) {
         return Err(CliError::input(
             "--mode polvis-stokes: spar compare does not compare its three images; compare \

@@ -61,6 +61,11 @@ pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
             "the polvis-stokes mode is three images (S1, S2, S3): render it with spar render",
         ));
     }
+    if args.mode.contains(&OutputMode::Sheet) {
+        return Err(CliError::input(
+            "the sheet mode is a sheet of its own: give contact-sheet the modes (color,dop,aolp)",
+        ));
+    }
     if let Some(m) = args.mode.iter().find(|m| m.is_polcam()) {
         return Err(CliError::input(format!(
             "the {} mode is a polarization camera's raw images, not a panel: render it with \
@@ -127,7 +132,8 @@ pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
             | OutputMode::StokesRgb
             | OutputMode::Polcam
             | OutputMode::PolcamMosaic
-            | OutputMode::PolvisStokes => {
+            | OutputMode::PolvisStokes
+            | OutputMode::Sheet => {
                 unreachable!("refused above")
             }
         };

@@ -100,3 +100,116 @@ pub fn with_legend(image: &Image, map: Map) -> Result<Image, CliError> {
     }
     Ok(out.with_metadata("spar:legend_rows", format!("{h}..{}", h + HEIGHT)))
 }
+
+/// The height of the title row above each panel of [`sheet`], pixels.
+pub const TITLE_HEIGHT: usize = 24;
+/// The gap between the panels of [`sheet`], pixels.
+pub const GAP: usize = 8;
+
+/// Draws `text` in white into the RGB buffer `buf` (`width` × `height`)
+/// at (x, y) (the text's top left), `size` pixels high. False if there is
+/// no font (a warning is printed once by the caller's check).
+fn draw_label(
+    buf: &mut [u8],
+    width: usize,
+    height: usize,
+    text: &str,
+    x: i32,
+    y: i32,
+    size: u32,
+) -> Result<bool, CliError> {
+    if super::plot::register_font().is_err() {
+        return Ok(false);
+    }
+    let area = BitMapBackend::with_buffer(buf, (width as u32, height as u32)).into_drawing_area();
+    area.draw(&Text::new(
+        text.to_string(),
+        (x, y),
+        ("sans-serif", size).into_font().color(&WHITE),
+    ))
+    .map_err(|e| CliError::internal(format!("drawing a label: {e}")))?;
+    area.present()
+        .map_err(|e| CliError::internal(format!("drawing a label: {e}")))?;
+    Ok(true)
+}
+
+/// The first-run sheet (`--mode sheet`, `spar render`'s default without a
+/// scene): the film's `color` image, its degree of polarization
+/// (`polvis-dop`) and its angle of linear polarization (`aolp`) at
+/// `mono_nm`, side by side, each under a title row of [`TITLE_HEIGHT`]
+/// pixels, the maps with their legends, [`GAP`] pixels apart on black.
+/// Returns the sheet and each panel's left column.
+pub fn sheet(
+    film: &crate::render::film::Film,
+    colour: &crate::spectrum::WavelengthSet,
+    mono_nm: f64,
+) -> Result<(Image, [usize; 3]), CliError> {
+    use crate::render::output::{develop, map_image, OutputMode};
+    let colour_image =
+        develop(film, OutputMode::Color, colour, mono_nm).map_err(CliError::input)?;
+    let dop = with_legend(
+        &map_image(film, Map::Dop, mono_nm).map_err(CliError::input)?,
+        Map::Dop,
+    )?;
+    let aolp = with_legend(
+        &map_image(film, Map::Aolp, mono_nm).map_err(CliError::input)?,
+        Map::Aolp,
+    )?;
+    let panels = [&colour_image, &dop, &aolp];
+    let titles = [
+        "colour".to_string(),
+        format!("degree of polarization, {mono_nm} nm"),
+        format!("angle of linear polarization, {mono_nm} nm"),
+    ];
+    let mut lefts = [0usize; 3];
+    let mut width = 0;
+    for (i, p) in panels.iter().enumerate() {
+        lefts[i] = width;
+        width += p.width() + if i < 2 { GAP } else { 0 };
+    }
+    let height = TITLE_HEIGHT + panels.iter().map(|p| p.height()).max().unwrap_or(0);
+    // The title row, drawn as 8-bit RGB.
+    let mut titles_rgb = vec![0u8; width * TITLE_HEIGHT * 3];
+    let mut drawn = true;
+    for (t, &x) in titles.iter().zip(&lefts) {
+        drawn &= draw_label(&mut titles_rgb, width, TITLE_HEIGHT, t, x as i32 + 4, 5, 15)?;
+    }
+    if !drawn {
+        eprintln!(
+            "spar: warning: the sheet's titles are left out: no font (install fonts-dejavu-core)"
+        );
+    }
+    let mut data = vec![0.0f32; width * height * 3];
+    for (i, v) in titles_rgb.iter().enumerate() {
+        data[i] = *v as f32 / 255.0;
+    }
+    for (p, &x0) in panels.iter().zip(&lefts) {
+        for y in 0..p.height() {
+            for x in 0..p.width() {
+                let dst = ((TITLE_HEIGHT + y) * width + x0 + x) * 3;
+                data[dst..dst + 3].copy_from_slice(&p.pixel(x, y)[..3]);
+            }
+        }
+    }
+    let image = Image::new(
+        width,
+        height,
+        vec!["R".into(), "G".into(), "B".into()],
+        data,
+    )?;
+    let place = |i: usize| format!("{}..{}", lefts[i], lefts[i] + panels[i].width());
+    Ok((
+        image
+            .with_metadata(
+                "spar:sheet_panels",
+                format!(
+                    "color {}; polvis-dop {}; aolp {}",
+                    place(0),
+                    place(1),
+                    place(2)
+                ),
+            )
+            .with_metadata("spar:sheet_title_rows", format!("0..{TITLE_HEIGHT}")),
+        lefts,
+    ))
+}

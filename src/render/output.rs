@@ -29,6 +29,9 @@
 //!   `polvis-cir`: the false colours of Wilkie & Weidlich, "A Standardised
 //!   Polarisation Visualisation for Images" (SCCG 2010), as Mitsuba 3's
 //!   `polvis.py` draws them ([`Map`]).
+//! - `sheet`: the first-run picture: `color`, `polvis-dop` and `aolp` side
+//!   by side with titles and legends, composed by the command line
+//!   (`spar::cli::legend::sheet`); `spar render`'s default without a scene.
 //! - `polcam`: a polarization camera: four images of the intensity behind
 //!   ideal linear polarizers at 0°, 45°, 90° and 135° from image right
 //!   toward image up (the Stokes frame's angles), at one wavelength:
@@ -71,6 +74,7 @@ pub enum OutputMode {
     PolvisTop,
     PolvisLin,
     PolvisCir,
+    Sheet,
 }
 
 /// A false-colour map of the field's conventions: the colour of each
@@ -333,6 +337,7 @@ impl OutputMode {
             OutputMode::PolvisTop => "polvis-top",
             OutputMode::PolvisLin => "polvis-lin",
             OutputMode::PolvisCir => "polvis-cir",
+            OutputMode::Sheet => "sheet",
         }
     }
 
@@ -393,6 +398,13 @@ impl OutputMode {
             self,
             OutputMode::Color | OutputMode::Stokes | OutputMode::StokesRgb
         )
+    }
+
+    /// True for the modes that need the colour wavelengths traced: the
+    /// spectral ones and `sheet` (whose colour panel needs them besides
+    /// its maps' one wavelength).
+    pub fn needs_colour(self) -> bool {
+        self.is_spectral() || self == OutputMode::Sheet
     }
 
     /// True for the modes `--wavelength` sets (the single-wavelength modes
@@ -458,6 +470,7 @@ pub fn develop_files(
         OutputMode::PolvisStokes => (1..=3)
             .map(|k| map_image(film, Map::Stokes(k), mono_nm))
             .collect(),
+        OutputMode::Sheet => develop(film, mode, colour, mono_nm).map(|i| vec![i]),
         _ => develop(film, mode, colour, mono_nm).map(|i| vec![i]),
     }
 }
@@ -653,6 +666,9 @@ pub fn develop(
         OutputMode::Polcam => Err(
             "the polcam mode is four images (one per polarizer): develop them with develop_files"
                 .into(),
+        ),
+        OutputMode::Sheet => Err(
+            "the sheet mode is composed with its titles by the command line (spar render)".into(),
         ),
         OutputMode::PolcamMosaic => polcam_image(film, mono_nm, Storage::Display, mosaic_angle),
         OutputMode::PolvisStokes => map_image(film, Map::Stokes(1), mono_nm),

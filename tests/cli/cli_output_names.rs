@@ -20,7 +20,7 @@ corners = [[-2.0, -2.0, 0.0], [2.0, -2.0, 0.0], [2.0, 2.0, 0.0], [-2.0, 2.0, 0.0
 polarization = { linear = [0.0, 1.0, 0.0] }
 "#;
 
-const MODES: [&str; 17] = [
+const MODES: [&str; 18] = [
     "color",
     "mono",
     "dop",
@@ -38,6 +38,7 @@ const MODES: [&str; 17] = [
     "polvis-top",
     "polvis-lin",
     "polvis-cir",
+    "sheet",
 ];
 
 /// MODES is every camera mode spar has, so every mode's names are checked.
@@ -135,8 +136,11 @@ fn every_mode_and_extension_is_written_or_refused_with_the_name_to_use() {
                 // The false-colour maps have their legend below (at least
                 // spar::cli::legend::MIN_WIDTH wide).
                 let img = spar::image::read(&d.join(&expected[0])).unwrap();
+                use spar::cli::legend::{GAP, HEIGHT, MIN_WIDTH, TITLE_HEIGHT};
                 let size = if mode == "aolp" || mode == "dolp" || mode.starts_with("polvis") {
-                    (spar::cli::legend::MIN_WIDTH, 3 + spar::cli::legend::HEIGHT)
+                    (MIN_WIDTH, 3 + HEIGHT)
+                } else if mode == "sheet" {
+                    (4 + 2 * GAP + 2 * MIN_WIDTH, TITLE_HEIGHT + 3 + HEIGHT)
                 } else {
                     (4, 3)
                 };

@@ -10,6 +10,7 @@ mod cli_accel;
 mod cli_args;
 mod cli_compare;
 mod cli_exit_status;
+mod cli_first_run;
 mod cli_interface;
 mod cli_limits;
 mod cli_maps;

@@ -129,7 +129,7 @@ fn display_modes(asked: &[OutputMode]) -> Result<Vec<OutputMode>, CliError> {
         return Err(CliError::input(
             "--mode: give display modes (color, mono, dop, ellipticity, ellipticity-paper, \
              azimuth, aolp, dolp, polvis-dop, polvis-top, polvis-lin, polvis-cir); stokes, \
-             stokes-rgb, polcam, polcam-mosaic and polvis-stokes have no display error",
+             stokes-rgb, polcam, polcam-mosaic, polvis-stokes and sheet have no display error",
         ));
     }
     Ok(modes)
