@@ -152,6 +152,27 @@ pub fn wavelength_use(
     Ok((traced, stokes))
 }
 
+/// The single-wavelength modes' wavelength for commands that develop
+/// `modes` from one render (`compare`, `contact-sheet`, `speed-error`):
+/// `--wavelength` if given (checked, and refused with exit status 2 when
+/// none of `modes` uses it, rather than ignored), else 580 nm.
+pub fn mono_wavelength(wavelength: Option<f64>, modes: &[OutputMode]) -> Result<f64, CliError> {
+    let Some(nm) = wavelength else {
+        return Ok(super::render::DEFAULT_WAVELENGTH);
+    };
+    check_wavelength(nm)?;
+    if modes.iter().all(|m| !m.uses_wavelength()) {
+        let names: Vec<&str> = modes.iter().map(|m| m.name()).collect();
+        return Err(CliError::input(format!(
+            "--wavelength {nm}: no mode asked for uses it ({} use the scene's wavelengths, \
+             render.wavelengths or --wavelengths); it sets the wavelength of mono, dop, \
+             ellipticity, ellipticity-paper, azimuth, aolp, dolp and the polvis maps",
+            names.join(",")
+        )));
+    }
+    Ok(nm)
+}
+
 /// Refuses rendered values that are not finite (no NaN pixel is ever
 /// written): an internal error, never the input's fault.
 pub(crate) fn check_finite<'a>(values: impl IntoIterator<Item = &'a f32>) -> Result<(), CliError> {

@@ -403,3 +403,61 @@ fn plan_names_the_image_by_the_same_rules() {
         assert!(err.contains(needle), "{args:?}: {err}");
     }
 }
+
+/// compare, contact-sheet and speed-error use --wavelength or refuse it
+/// (issue 16 item 5): with color alone it sets nothing and is refused
+/// (exit 2, nothing written) instead of ignored; with a mode that uses it,
+/// it is taken.
+#[test]
+fn commands_beside_render_use_or_refuse_wavelength() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("s.toml"), SCENE).unwrap();
+    for (cmd, out) in [
+        ("compare", "c.png"),
+        ("contact-sheet", "k.png"),
+        ("speed-error", "se"),
+    ] {
+        let args = [
+            cmd,
+            "s.toml",
+            "--mode",
+            "color",
+            "--wavelength",
+            "600",
+            "-o",
+            out,
+        ];
+        let (code, _, err) = code_out_err(&spar(d, &args));
+        assert_eq!(code, 2, "{cmd}: {err}");
+        if cmd == "compare" && !cfg!(feature = "native") {
+            // The pure build has one backend: compare is refused first.
+            assert!(err.contains("native"), "{cmd}: {err}");
+        } else {
+            assert!(
+                err.contains("--wavelength 600") && err.contains("no mode asked for uses it"),
+                "{cmd}: {err}"
+            );
+        }
+        assert!(written(d).is_empty(), "{cmd}: {:?}", written(d));
+    }
+    // A mode that uses it takes it (compare renders with both backends;
+    // the pure build has one and refuses compare first).
+    if cfg!(feature = "native") {
+        let (code, out, err) = code_out_err(&spar(
+            d,
+            &[
+                "compare",
+                "s.toml",
+                "--mode",
+                "mono",
+                "--wavelength",
+                "600",
+                "-o",
+                "m.png",
+            ],
+        ));
+        assert_eq!(code, 0, "{out}{err}");
+        assert!(out.contains("1 wavelength(s)"), "{out}");
+    }
+}
