@@ -152,13 +152,16 @@ pub fn wavelength_use(
     Ok((traced, stokes))
 }
 
+/// `--wavelength`'s default, nm.
+pub const DEFAULT_WAVELENGTH: f64 = 580.0;
+
 /// The single-wavelength modes' wavelength for commands that develop
 /// `modes` from one render (`compare`, `contact-sheet`, `speed-error`):
 /// `--wavelength` if given (checked, and refused with exit status 2 when
 /// none of `modes` uses it, rather than ignored), else 580 nm.
 pub fn mono_wavelength(wavelength: Option<f64>, modes: &[OutputMode]) -> Result<f64, CliError> {
     let Some(nm) = wavelength else {
-        return Ok(super::render::DEFAULT_WAVELENGTH);
+        return Ok(DEFAULT_WAVELENGTH);
     };
     check_wavelength(nm)?;
     if modes.iter().all(|m| !m.uses_wavelength()) {

@@ -55,9 +55,10 @@ pub struct RenderArgs {
     #[arg(long, short)]
     pub output: Option<PathBuf>,
     /// Wavelength of the single-wavelength modes (mono, dop, ellipticity,
-    /// ellipticity-paper, azimuth, polcam, polcam-mosaic), nm; default
-    /// 580. Given with stokes, the Stokes EXR holds this wavelength only.
-    /// Refused when no mode asked for uses it (color alone).
+    /// ellipticity-paper, azimuth, aolp, dolp, the polvis maps, polcam,
+    /// polcam-mosaic, the sheet's maps), nm; default 580. Given with
+    /// stokes, the Stokes EXR holds this wavelength only. Refused when no
+    /// mode asked for uses it (color or stokes-rgb alone).
     #[arg(long)]
     pub wavelength: Option<f64>,
     #[command(flatten)]
@@ -155,8 +156,7 @@ fn film_what(
     format!("{size}{part} with {lambdas}")
 }
 
-/// `--wavelength`'s default, nm.
-pub const DEFAULT_WAVELENGTH: f64 = 580.0;
+pub use super::common::DEFAULT_WAVELENGTH;
 
 /// What `spar render`'s flags ask for, checked before any work starts.
 struct Job {
