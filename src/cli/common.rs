@@ -6,7 +6,7 @@ use super::error::CliError;
 use crate::farm::progress::Reporter;
 use crate::image::{Image, PixelType, WriteOptions};
 use crate::render::film::Film;
-use crate::render::output::{develop, develop_files, map_of, OutputMode, Storage};
+use crate::render::output::{develop, develop_files, map_of, stokes_preview, OutputMode, Storage};
 use crate::scene::{builtin, Scene};
 use crate::spectrum::WavelengthSet;
 use std::path::{Path, PathBuf};
@@ -348,6 +348,26 @@ pub fn write_modes(
             developed = Some((f.mode, images));
         }
         let mut image = developed.as_ref().expect("developed above").1[f.part].clone();
+        // The Stokes file's RGB preview (JCGT 2021 layout), where the film
+        // holds the colour wavelengths.
+        if f.mode == OutputMode::Stokes {
+            if let Some(rgb) = stokes_preview(stokes_film, colour) {
+                let mut planes: Vec<(String, Vec<f32>)> = ["R", "G", "B"]
+                    .iter()
+                    .map(|c| c.to_string())
+                    .zip(rgb)
+                    .collect();
+                for name in image.channels().to_vec() {
+                    let plane = image.channel(&name)?;
+                    planes.push((name, plane));
+                }
+                let metadata = image.metadata().clone();
+                image = Image::from_planes(image.width(), image.height(), planes)?;
+                for (k, v) in metadata {
+                    image = image.with_metadata(k, v);
+                }
+            }
+        }
         // The false-colour maps carry their legend in display images.
         if let (Storage::Display, Some(map)) = (f.storage, map_of(f.mode, f.part)) {
             image = super::legend::with_legend(&image, map)?;

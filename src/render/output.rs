@@ -515,6 +515,16 @@ fn polcam_image(
     .map_err(|e| e.to_string())
 }
 
+/// The `stokes` file's preview channels `R`, `G`, `B`: linear sRGB of S0
+/// over the colour wavelengths (the CIE 1931 observer, white balanced as
+/// `color`: a white light of radiance 1 is (1, 1, 1)), or `None` where the
+/// film does not hold them or they carry no colour (a `--wavelength` file
+/// of one wavelength).
+pub fn stokes_preview(film: &Film, colour: &WavelengthSet) -> Option<[Vec<f32>; 3]> {
+    let (observer, idx) = colour_indices(film, colour)?;
+    Some(stokes_rgb_planes(film, &observer, &idx, 0))
+}
+
 /// The observer of the colour wavelengths and each one's index in the
 /// film, if the film holds them all and they carry colour.
 fn colour_indices(film: &Film, colour: &WavelengthSet) -> Option<(Observer, Vec<usize>)> {
@@ -621,14 +631,10 @@ pub fn develop(
             rgb_image(out)
         }
         OutputMode::Stokes => {
+            // S0..S3 of each wavelength in turn, four channels a
+            // wavelength (the file's R, G, B preview is added by
+            // [`stokes_preview`] where the file is written).
             let mut planes: Vec<(String, Vec<f32>)> = Vec::new();
-            // The preview: linear sRGB of S0 over the colour wavelengths
-            // (a white light of radiance 1 is (1, 1, 1)), where the film
-            // holds them (not for a --wavelength file of one wavelength).
-            if let Some((observer, idx)) = colour_indices(film, colour) {
-                let rgb = stokes_rgb_planes(film, &observer, &idx, 0);
-                planes.extend(["R", "G", "B"].iter().map(|c| c.to_string()).zip(rgb));
-            }
             for (i, &l) in film.lambdas.iter().enumerate() {
                 for c in 0..4 {
                     let mut plane = Vec::with_capacity(npix);
@@ -729,6 +735,38 @@ mod tests {
         assert_eq!(polarizer([1.0, 1.0, 0.0, 0.0], 0), 1.0);
         assert_eq!(polarizer([1.0, 1.0, 0.0, 0.0], 90), 0.0);
         assert_eq!(polarizer([1.0, 0.0, 0.0, 0.0], 22), 0.5);
+    }
+
+    /// develop's Stokes image is S0..S3 of each wavelength in turn, four
+    /// channels a wavelength and nothing else (the Python module reads it
+    /// by position); the preview is the file writer's, from
+    /// stokes_preview.
+    #[test]
+    fn the_stokes_image_is_four_channels_a_wavelength() {
+        let lambdas = vec![450.0, 550.5, 650.0];
+        let mut film = Film::new(2, 1, lambdas.clone(), 1);
+        for (k, d) in film.data.iter_mut().enumerate() {
+            *d = [10.0 + k as f32, 1.0, -2.0, 0.5];
+        }
+        let set = WavelengthSet::from_list(&lambdas).unwrap();
+        let img = develop(&film, OutputMode::Stokes, &set, 580.0).unwrap();
+        let want: Vec<String> = lambdas
+            .iter()
+            .flat_map(|&l| (0..4).map(move |c| stokes_channel(c, l)))
+            .collect();
+        assert_eq!(img.channels(), want);
+        for (i, _) in lambdas.iter().enumerate() {
+            assert_eq!(img.pixel(1, 0)[4 * i], 10.0 + (3 + i) as f32);
+            assert_eq!(img.pixel(1, 0)[4 * i + 2], -2.0);
+        }
+        let rgb = stokes_preview(&film, &set).expect("the colour set is in the film");
+        let observer = Observer::new(&set).unwrap();
+        let s0: Vec<f64> = (0..3).map(|i| film.stokes(0, 0, i)[0]).collect();
+        let want = observer.linear_srgb(&s0);
+        for k in 0..3 {
+            assert!((rgb[k][0] as f64 - want[k]).abs() <= 1e-6 * want[k].abs().max(1.0));
+        }
+        assert!(stokes_preview(&film.only(550.5).unwrap(), &set).is_none());
     }
 
     #[test]
