@@ -170,6 +170,12 @@ pub struct SceneOverrides {
     /// model). Overrides the scene.
     #[arg(long, value_parser = clap::value_parser!(CoherenceModel))]
     pub coherence: Option<CoherenceModel>,
+    /// A crystal's o and e waves travel as one bundle while their rays stay
+    /// on the same facets within TOL pixel footprints of each other (0:
+    /// every eigenwave its own ray, the exact tree). Needs --coherence
+    /// incoherent. Overrides the scene.
+    #[arg(long, value_name = "TOL")]
+    pub bundle: Option<f64>,
     /// Spectral sampling of the colour wavelengths: all (every one for
     /// every sample) or hero:K (K stratified wavelengths per sample,
     /// rotating across samples). Overrides the scene.
@@ -231,6 +237,7 @@ impl SceneOverrides {
             spectral: set(self.spectral, "--spectral", origin),
             dispersion: set(self.dispersion, "--dispersion", origin),
             coherence: set(self.coherence, "--coherence", origin),
+            bundle: set(self.bundle, "--bundle", origin),
         };
         [self.quality.map(Quality::layer).unwrap_or_default(), flags]
     }
@@ -337,6 +344,9 @@ impl SceneOverrides {
         }
         if let Some(c) = self.coherence {
             a.extend(["--coherence".into(), c.to_string()]);
+        }
+        if let Some(b) = self.bundle {
+            a.extend(["--bundle".into(), b.to_string()]);
         }
         a
     }

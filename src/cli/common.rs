@@ -178,7 +178,7 @@ pub fn mono_wavelength(wavelength: Option<f64>, modes: &[OutputMode]) -> Result<
 
 /// Refuses rendered values that are not finite (no NaN pixel is ever
 /// written): an internal error, never the input's fault.
-pub(crate) fn check_finite<'a>(values: impl IntoIterator<Item = &'a f32>) -> Result<(), CliError> {
+pub fn check_finite<'a>(values: impl IntoIterator<Item = &'a f32>) -> Result<(), CliError> {
     match crate::farm::non_finite(values) {
         Some((first, count)) => Err(CliError::internal(format!(
             "internal error: the render produced {count} non-finite value(s), the first at raw \
@@ -238,7 +238,7 @@ pub fn check_memory(bytes: f64, what: &str) -> Result<(), CliError> {
     crate::farm::memory::check(bytes, what).map_err(CliError::input)
 }
 
-pub(crate) fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, CliError> {
+pub fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, CliError> {
     check_threads(threads)?;
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)

@@ -133,10 +133,15 @@ impl RenderInfo {
             mono_nm,
             accel: "embree".into(),
             isa: isa.unwrap_or("auto").to_string(),
-            approx: format!(
-                "{} coherence={}",
-                scene.settings.approx, scene.settings.approx.strategy.coherence
-            ),
+            approx: {
+                let a = &scene.settings.approx;
+                let mut s = format!("{a} coherence={}", a.strategy.coherence);
+                // Only when on, so the identities of earlier renders stand.
+                if a.strategy.bundle > 0.0 {
+                    s += &format!(" bundle={}", a.strategy.bundle);
+                }
+                s
+            },
         }
     }
 

@@ -81,11 +81,16 @@ impl fmt::Display for CoherenceModel {
 
 /// The integrator's strategy (defaults: the exact full tree, coherent
 /// sums).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct Strategy {
     pub branching: Branching,
     pub polarization: PolarizationModel,
     pub coherence: CoherenceModel,
+    /// o and e waves travel together while their rays stay within this
+    /// many pixel footprints of each other on the same facets
+    /// (`render::bundle`); 0: every eigenwave its own ray (the exact
+    /// tree).
+    pub bundle: f64,
 }
 
 /// How the colour wavelengths are sampled.
@@ -178,7 +183,7 @@ impl fmt::Display for DispersionMode {
 }
 
 /// Every knob that is not a count: the defaults model everything.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Approximations {
     pub strategy: Strategy,
     pub spectral: Spectral,

@@ -136,6 +136,28 @@ impl Camera {
         }
     }
 
+    /// The width of one pixel's footprint at `point`, scene units: the
+    /// pixel's angular size at the image centre times the distance from the
+    /// eye (pinhole), or the pixel's width (orthographic). What a bundle's
+    /// tolerance is measured in (`render::bundle`).
+    pub fn footprint(&self, point: DVec3) -> f64 {
+        match self.projection {
+            Projection::Pinhole => {
+                2.0 * self.tan_half_fov / self.height as f64 * (point - self.eye).length()
+            }
+            Projection::Orthographic { width } => width / self.width as f64,
+        }
+    }
+
+    /// The angle one pixel spans at the image centre, radians (0 for an
+    /// orthographic camera, whose rays are parallel).
+    pub fn pixel_angle(&self) -> f64 {
+        match self.projection {
+            Projection::Pinhole => 2.0 * self.tan_half_fov / self.height as f64,
+            Projection::Orthographic { .. } => 0.0,
+        }
+    }
+
     /// The same camera with another image size (the field of view stays
     /// vertical).
     pub fn with_resolution(mut self, width: u32, height: u32) -> Camera {

@@ -81,6 +81,12 @@ pub struct Stats {
     /// their camera sample (the physical model's coherent groups,
     /// docs/physics.md §9.3); 0 in the incoherent model.
     pub coherent: u64,
+    /// Nodes where a crystal's o and e waves travelled as one bundle
+    /// (`render::bundle`): each stands for a node of both members.
+    pub bundled: u64,
+    /// Bundles whose members parted (different facets, or farther apart
+    /// than the tolerance) and continued as exact rays.
+    pub splits: u64,
 }
 
 /// Lost rays by cause. Rays stopped by the depth limit are not lost light
@@ -125,6 +131,8 @@ impl std::ops::AddAssign for Stats {
         self.lost += o.lost;
         self.causes += o.causes;
         self.coherent += o.coherent;
+        self.bundled += o.bundled;
+        self.splits += o.splits;
     }
 }
 
@@ -327,17 +335,21 @@ pub struct Tracer<'a> {
 /// One backward ray: the forward wave of `kind` that arrives at `origin`
 /// travelling along `-dir`.
 #[derive(Clone, Copy, Debug)]
-struct Query {
-    origin: DVec3,
-    dir: DVec3,
-    region: Region,
-    kind: WaveKind,
-    depth: u32,
+pub(super) struct Query {
+    pub origin: DVec3,
+    pub dir: DVec3,
+    pub region: Region,
+    pub kind: WaveKind,
+    pub depth: u32,
     /// Product of the gains along the path (the bound pruning tests).
-    throughput: f64,
+    pub throughput: f64,
     /// Which branch of the full part of the tree this is (for random
     /// numbers that differ between sibling subtrees).
-    path: u64,
+    pub path: u64,
+    /// The largest angle, radians, between this path's light and its
+    /// exact ray, from waves that bundles carried on another wave's ray
+    /// (render::bundle; 0 without bundles).
+    pub drift: f64,
 }
 
 /// Largest squared singular value of a Jones block: the most intensity it
@@ -412,6 +424,25 @@ impl<'a> Tracer<'a> {
     #[inline]
     pub(super) fn epsilon(&self, object: u32) -> f64 {
         self.epsilon[object as usize]
+    }
+
+    /// How many pixel footprints apart a bundle's members may be and
+    /// still travel together (0: no bundles).
+    #[inline]
+    pub(super) fn bundle_tolerance(&self) -> f64 {
+        self.strategy.bundle
+    }
+
+    /// The angle one pixel spans ([`crate::render::camera::Camera::pixel_angle`]).
+    #[inline]
+    pub(super) fn pixel_angle(&self) -> f64 {
+        self.scene.camera.pixel_angle()
+    }
+
+    /// One pixel's footprint at `point` ([`crate::render::camera::Camera::footprint`]).
+    #[inline]
+    pub(super) fn footprint(&self, point: DVec3) -> f64 {
+        self.scene.camera.footprint(point)
     }
 
     /// The same tracer with another strategy.
@@ -491,10 +522,18 @@ impl<'a> Tracer<'a> {
             depth: 0,
             throughput: 1.0,
             path: 0,
+            drift: 0.0,
         };
-        // One slot of `batch` matrices per level of the tree below the root.
-        let mut scratch =
-            vec![Coherence::zero(1); batch.len() * (self.settings.max_depth as usize + 1)];
+        // One slot of `batch` matrices per level of the tree below the root
+        // (twice that with bundles: a bundle that splits hands its members
+        // a slot at its own depth).
+        let levels = self.settings.max_depth as usize + 1;
+        let levels = if self.strategy.bundle > 0.0 {
+            2 * levels
+        } else {
+            levels
+        };
+        let mut scratch = vec![Coherence::zero(1); batch.len() * levels];
         self.radiance(&q, &basis, batch, key, out, &mut scratch, stats);
     }
 
@@ -703,7 +742,7 @@ impl<'a> Tracer<'a> {
     /// the results of the levels below: a child writes into its first
     /// `batch.len()` entries and recurses with the rest.
     #[allow(clippy::too_many_arguments)]
-    fn radiance(
+    pub(super) fn radiance(
         &self,
         q: &Query,
         basis: &[DVec3; 2],
@@ -714,10 +753,28 @@ impl<'a> Tracer<'a> {
         stats: &mut Stats,
     ) {
         stats.rays += 1;
+        let traced = self.trace(q.origin, q.dir, stats);
+        self.radiance_traced(q, traced, basis, batch, key, out, scratch, stats);
+    }
+
+    /// [`Self::radiance`] for a query whose ray has been traced already
+    /// (`None`: it could not be, and was counted lost).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn radiance_traced(
+        &self,
+        q: &Query,
+        traced: Option<Traced>,
+        basis: &[DVec3; 2],
+        batch: &[WavelengthMedia],
+        key: &SampleKey,
+        out: &mut [Coherence],
+        scratch: &mut [Coherence],
+        stats: &mut Stats,
+    ) {
         let modes = q.kind.mode_count();
         let zero = |out: &mut [Coherence]| out.iter_mut().for_each(|o| *o = Coherence::zero(modes));
         let scalar = self.strategy.polarization == PolarizationModel::Scalar;
-        let Some(Traced { ray, hit, t_hit }) = self.trace(q.origin, q.dir, stats) else {
+        let Some(Traced { ray, hit, t_hit }) = traced else {
             return zero(out);
         };
 
@@ -798,7 +855,17 @@ impl<'a> Tracer<'a> {
         for o in out.iter_mut() {
             *o = Coherence::zero(target.modes());
         }
+        // The o and e feeders of a crystal side travel as one bundle.
+        let bundled = if self.strategy.bundle > 0.0 && !sampled && !scalar {
+            let at = (point, hit.geom, normal, other);
+            self.bundle_pairs(q, list, &gains, at, batch, key, out, scratch, stats)
+        } else {
+            [false; 4]
+        };
         for &(i, weight) in &chosen[..n_chosen] {
+            if bundled[i] {
+                continue;
+            }
             let f = &list[i];
             // Pruning looks at the path's physical throughput, whatever the
             // sampling weight, so every strategy cuts the same subtrees.
@@ -820,6 +887,7 @@ impl<'a> Tracer<'a> {
                 } else {
                     q.path.wrapping_mul(4).wrapping_add(i as u64 + 1)
                 },
+                drift: q.drift,
             };
             let (child_out, deeper) = scratch.split_at_mut(n);
             self.radiance(&child, &f.wave.basis, batch, key, child_out, deeper, stats);

@@ -16,6 +16,7 @@
 
 pub mod approx;
 pub mod blocks;
+pub mod bundle;
 pub mod camera;
 pub mod coherent;
 pub mod film;

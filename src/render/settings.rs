@@ -82,6 +82,8 @@ pub struct SettingsLayer {
     pub spectral: Option<Set<Spectral>>,
     pub dispersion: Option<Set<DispersionMode>>,
     pub coherence: Option<Set<CoherenceModel>>,
+    /// o/e bundle tolerance in pixel footprints (0: the exact tree).
+    pub bundle: Option<Set<f64>>,
 }
 
 /// Everything a layer can set: samples per pixel, image size and the
@@ -140,6 +142,7 @@ pub enum Field {
     Wavelengths,
     MaxDepth,
     Prune,
+    Bundle,
 }
 
 /// A refused setting: where it came from, which field, and why.
@@ -264,6 +267,17 @@ impl SettingsLayer {
         if let Some(c) = &self.coherence {
             s.render.approx.strategy.coherence = c.value;
         }
+        if let Some(b) = &self.bundle {
+            if !(b.value.is_finite() && b.value >= 0.0) {
+                return Err(err(
+                    &b.origin,
+                    Field::Bundle,
+                    "must be a number of pixel footprints ≥ 0 (0: every eigenwave its own ray)"
+                        .into(),
+                ));
+            }
+            s.render.approx.strategy.bundle = b.value;
+        }
         Ok(())
     }
 
@@ -280,6 +294,46 @@ pub fn resolve(base: Settings, layers: &[&SettingsLayer]) -> Result<Settings, Se
     let mut s = base;
     for layer in layers {
         layer.apply(&mut s)?;
+    }
+    // Bundles add o and e as intensities (render::bundle): refused with
+    // the physical model rather than silently dropping its o/e
+    // interference.
+    let strategy = s.render.approx.strategy;
+    if strategy.bundle > 0.0 && strategy.coherence == CoherenceModel::Physical {
+        // Blame the later of the two settings given here (the scene's own
+        // were checked when it was read).
+        let blame = layers.iter().rev().find_map(|l| {
+            l.bundle
+                .as_ref()
+                .filter(|b| b.value > 0.0)
+                .map(|b| {
+                    (
+                        b.origin.clone(),
+                        "needs coherence = \"incoherent\"".to_string(),
+                    )
+                })
+                .or_else(|| {
+                    l.coherence.as_ref().map(|c| {
+                        (
+                            c.origin.clone(),
+                            format!("is {} but bundle = {}", c.value, strategy.bundle),
+                        )
+                    })
+                })
+        });
+        let (origin, what) = blame.unwrap_or((
+            Origin::Flag("--bundle".into()),
+            "needs --coherence incoherent".into(),
+        ));
+        return Err(SettingsError {
+            origin,
+            field: Field::Bundle,
+            message: format!(
+                "{what}: bundled o and e waves add as intensities, and the physical model's o/e \
+                 interference needs every eigenwave its own ray (coherence = \"incoherent\", or \
+                 bundle = 0)"
+            ),
+        });
     }
     Ok(s)
 }

@@ -19,6 +19,7 @@
 //! prune = 1e-4                 # 0: no pruning
 //! seed = 0
 //! coherence = "physical"       # or "incoherent" (every path adds as an intensity)
+//! bundle = 0                   # o and e as one ray within N pixel footprints (incoherent only)
 //! units = "mm"                 # one scene unit: nm, um (µm), mm, cm or m
 //!
 //! [media.my_glass]             # custom media (optional)
@@ -308,6 +309,8 @@ pub struct RenderDef {
     pub dispersion: Option<Spanned<toml::Value>>,
     /// `physical` or `incoherent` (render::approx::CoherenceModel).
     pub coherence: Option<Spanned<String>>,
+    /// o/e bundle tolerance, pixel footprints (render::bundle).
+    pub bundle: Option<Spanned<f64>>,
     /// The length of one scene unit: `nm`, `um` (or `µm`), `mm`, `cm`, `m`.
     pub units: Option<Spanned<String>>,
 }

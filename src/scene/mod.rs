@@ -228,6 +228,10 @@ impl Scene {
                 .as_ref()
                 .map(|p| Set::new(*p.get_ref(), origin(p.span(), "render.prune"))),
             seed: r.seed.map(|v| Set::new(v, origin(0..0, "render.seed"))),
+            bundle: r
+                .bundle
+                .as_ref()
+                .map(|b| Set::new(*b.get_ref(), origin(b.span(), "render.bundle"))),
             ..SettingsLayer::default()
         };
         if let Some(b) = &r.branching {

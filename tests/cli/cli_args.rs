@@ -287,3 +287,71 @@ fn coherence_flag_overrides_the_scene_and_is_part_of_the_identity() {
     assert_eq!(code, 0, "{err}");
     assert!(script.contains("--coherence incoherent"), "{script}");
 }
+
+#[test]
+fn bundle_flag_needs_the_incoherent_model_and_is_part_of_the_identity() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("scene.toml"), SCENE).unwrap();
+    let bundled = SCENE.replace(
+        "wavelengths = 8",
+        "wavelengths = 8\ncoherence = \"incoherent\"\nbundle = 0.5",
+    );
+    std::fs::write(d.join("bundled.toml"), bundled).unwrap();
+    // With the physical model the o/e interference would be lost: refused,
+    // naming where the tolerance came from.
+    refused(
+        d,
+        &["render", "scene.toml", "--bundle", "1", "-o", "a.png"],
+        &["--bundle", "coherence = \"incoherent\""],
+    );
+    refused(
+        d,
+        &[
+            "render",
+            "bundled.toml",
+            "--coherence",
+            "physical",
+            "-o",
+            "a.png",
+        ],
+        &["--coherence", "physical", "bundle = 0.5", "incoherent"],
+    );
+    for bad in ["-1", "nan", "inf"] {
+        refused(
+            d,
+            &[
+                "render",
+                "scene.toml",
+                "--coherence",
+                "incoherent",
+                "--bundle",
+                bad,
+                "-o",
+                "a.png",
+            ],
+            &["--bundle", "pixel footprints"],
+        );
+    }
+    assert!(!d.join("a.png").exists());
+    let (code, o, e) = spar(d, &["render", "bundled.toml", "-q", "-o", "b.png"]);
+    assert_eq!(code, 0, "{o}{e}");
+    let s = settings(&d.join("b.png"));
+    assert!(s.ends_with(" coherence=incoherent bundle=0.5"), "{s}");
+    // Off (0) leaves the identity as before bundles existed.
+    let (code, o, e) = spar(
+        d,
+        &[
+            "render",
+            "bundled.toml",
+            "--bundle",
+            "0",
+            "-q",
+            "-o",
+            "c.png",
+        ],
+    );
+    assert_eq!(code, 0, "{o}{e}");
+    let s = settings(&d.join("c.png"));
+    assert!(s.ends_with(" coherence=incoherent"), "{s}");
+}

@@ -25,7 +25,7 @@ struct ConfigFlags {
 }
 
 /// A configuration's key and the `spar render` flag it stands for.
-const KEYS: [(&str, &str); 10] = [
+const KEYS: [(&str, &str); 12] = [
     ("depth", "--max-depth"),
     ("prune", "--prune"),
     ("spp", "--samples"),
@@ -36,6 +36,8 @@ const KEYS: [(&str, &str); 10] = [
     ("dispersion", "--dispersion"),
     ("quality", "--quality"),
     ("seed", "--seed"),
+    ("coherence", "--coherence"),
+    ("bundle", "--bundle"),
 ];
 
 impl Config {

@@ -1,0 +1,184 @@
+//! What o/e bundles buy (render::bundle, docs/speed-vs-error.md): a round
+//! brilliant (`spar cut round-brilliant`) over the checker light, full
+//! spectrum (21 wavelengths, dispersion on), depth 30, pruning 1e-4, the
+//! incoherent model, in N-BK7, quartz and calcite, each crystal with
+//! bundles off and at several tolerances; interleaved, on all cores.
+//! Prints median CPU seconds (user + system of the process: the steadier
+//! measure on a shared machine), wall seconds, rays, the CPU ratio to
+//! N-BK7, and each bundled image's error against the exact tree's render
+//! of the same stone and seed (RMSE of S0 summed over the wavelengths and
+//! of the polarized intensity √(S1²+S2²+S3²) at 580 nm, relative to the
+//! mean S0 of the exact image).
+//!
+//!     cargo bench --bench bundle
+//!     SPAR_BENCH_SIZE=256 SPAR_BENCH_REPEATS=3 cargo bench --bench bundle
+//!
+//! SPAR_BENCH_SIZE (default 128) is the image side; the issue's target 2
+//! is stated at 256.
+
+use spar::accel::AccelKind;
+use spar::render::film::Film;
+use spar::render::integrator::Stats;
+use spar::render::{prepare, render};
+use spar::scene::Scene;
+use std::path::Path;
+use std::time::Instant;
+
+/// CPU seconds (user + system) this process has used, from
+/// /proc/self/stat (fields 14 and 15, in clock ticks of 1/100 s).
+fn cpu_seconds() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").expect("/proc/self/stat");
+    let rest = &stat[stat.rfind(')').expect("a stat line") + 2..];
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = |i: usize| fields[i - 3].parse::<f64>().expect("a tick count");
+    (ticks(14) + ticks(15)) / 100.0
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn scene_text(medium: &str, size: u32, bundle: f64) -> String {
+    let axis = if medium == "n-bk7" {
+        String::new()
+    } else {
+        "optic_axis = [0.0, 0.6, 0.8]".to_string()
+    };
+    format!(
+        r#"
+[camera]
+eye = [0.0, -3.2, 4.2]
+look_at = [0.0, 0.0, -0.1]
+up = [0.0, 0.0, 1.0]
+fov = 28.0
+resolution = [{size}, {size}]
+samples = 1
+[render]
+wavelengths = 21
+max_depth = 30
+prune = 1e-4
+coherence = "incoherent"
+bundle = {bundle}
+[[object]]
+cut = {{ name = "round-brilliant" }}
+medium = "{medium}"
+{axis}
+transform = {{ scale = 2.4, rotate = [0.0, 0.0, 15.0] }}
+[[light]]
+corners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, -1.5]]
+radiance = 1.0
+texture = "builtin:checker"
+"#
+    )
+}
+
+/// (S0 RMSE over all wavelengths, polarized RMSE at `at`) relative to the
+/// mean S0 of `exact`.
+fn errors(exact: &Film, other: &Film, at: usize) -> (f64, f64) {
+    let n = exact.lambdas.len();
+    let (mut mean, mut e0, mut ep, mut count) = (0.0, 0.0, 0.0, 0.0);
+    let pol = |s: [f64; 4]| (s[1] * s[1] + s[2] * s[2] + s[3] * s[3]).sqrt();
+    for y in 0..exact.height {
+        for x in 0..exact.width {
+            let (mut a0, mut b0) = (0.0, 0.0);
+            for i in 0..n {
+                a0 += exact.stokes(x, y, i)[0];
+                b0 += other.stokes(x, y, i)[0];
+            }
+            mean += a0 / n as f64;
+            e0 += ((a0 - b0) / n as f64).powi(2);
+            ep += (pol(exact.stokes(x, y, at)) - pol(other.stokes(x, y, at))).powi(2);
+            count += 1.0;
+        }
+    }
+    let mean = mean / count;
+    ((e0 / count).sqrt() / mean, (ep / count).sqrt() / mean)
+}
+
+fn main() {
+    let size: u32 = std::env::var("SPAR_BENCH_SIZE")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(128);
+    let repeats: usize = std::env::var("SPAR_BENCH_REPEATS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(3)
+        .max(1);
+    let rows: [(&str, f64); 9] = [
+        ("n-bk7", 0.0),
+        ("quartz", 0.0),
+        ("quartz", 0.3),
+        ("quartz", 1.0),
+        ("quartz", 3.0),
+        ("calcite", 0.0),
+        ("calcite", 0.3),
+        ("calcite", 1.0),
+        ("calcite", 3.0),
+    ];
+    let base = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let scenes: Vec<Scene> = rows
+        .iter()
+        .map(|(m, b)| {
+            Scene::parse(&scene_text(m, size, *b), "bundle-bench.toml", base)
+                .expect("the bench scene parses")
+        })
+        .collect();
+    let accels: Vec<_> = scenes
+        .iter()
+        .map(|s| {
+            prepare::accel(s, AccelKind::default(), rayon::current_num_threads(), None)
+                .expect("the intersector builds")
+        })
+        .collect();
+    let mut cpu = vec![vec![]; rows.len()];
+    let mut wall = vec![vec![]; rows.len()];
+    let mut results: Vec<Option<(Film, Stats)>> = (0..rows.len()).map(|_| None).collect();
+    for _ in 0..repeats {
+        for (i, scene) in scenes.iter().enumerate() {
+            let lambdas = scene.settings.wavelengths.lambdas().to_vec();
+            let options = prepare::options_at(scene, lambdas);
+            let (c0, t0) = (cpu_seconds(), Instant::now());
+            let out = render(scene, accels[i].as_ref(), &options);
+            wall[i].push(t0.elapsed().as_secs_f64());
+            cpu[i].push(cpu_seconds() - c0);
+            results[i] = Some(out);
+        }
+    }
+    println!(
+        "backend: {}, {} threads, {size}×{size}, 21 wavelengths, median of {repeats}",
+        AccelKind::default(),
+        rayon::current_num_threads()
+    );
+    println!(
+        "| stone | bundle | CPU s | wall s | rays | bundled nodes | splits | CPU / N-BK7 | S0 RMSE | \
+         polarized RMSE |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    let glass = median(cpu[0].clone());
+    let at = 10; // 580 nm of 21 over 380–780 nm
+    for (i, (medium, bundle)) in rows.iter().enumerate() {
+        let (film, stats) = results[i].as_ref().expect("rendered");
+        let exact = rows
+            .iter()
+            .position(|(m, b)| m == medium && *b == 0.0)
+            .expect("an exact row per stone");
+        let (e0, ep) = if *bundle > 0.0 {
+            let (ef, _) = results[exact].as_ref().expect("rendered");
+            let (a, b) = errors(ef, film, at);
+            (format!("{a:.4}"), format!("{b:.4}"))
+        } else {
+            (String::new(), String::new())
+        };
+        let c = median(cpu[i].clone());
+        println!(
+            "| {medium} | {bundle} | {c:.2} | {:.2} | {} | {} | {} | {:.2} | {e0} | {ep} |",
+            median(wall[i].clone()),
+            stats.rays,
+            stats.bundled,
+            stats.splits,
+            c / glass
+        );
+    }
+}

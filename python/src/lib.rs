@@ -1,0 +1,32 @@
+//! spar from Python: `import spar`. Scenes whose settings Python changes
+//! ([`scene`], [`settings`]), renders as NumPy arrays ([`render`],
+//! [`arrays`]), one interface solved ([`interface`]), cuts as arrays
+//! ([`cut`]), spar's errors as exceptions ([`errors`]). Everything is
+//! spar's library, called as the command line calls it; nothing here
+//! computes what spar computes. The stubs are `spar.pyi`, the guide
+//! docs/python.md.
+
+mod arrays;
+mod cut;
+mod errors;
+mod interface;
+mod render;
+mod scene;
+mod settings;
+
+use pyo3::prelude::*;
+
+#[pymodule]
+#[pyo3(name = "spar")]
+fn spar_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    errors::register(m)?;
+    m.add("__version__", spar::VERSION)?;
+    m.add("NATIVE", cfg!(feature = "native"))?;
+    m.add_class::<scene::Scene>()?;
+    m.add_class::<render::Render>()?;
+    m.add_function(wrap_pyfunction!(scene::load_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::default_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(interface::interface, m)?)?;
+    m.add_function(wrap_pyfunction!(cut::cut, m)?)?;
+    Ok(())
+}

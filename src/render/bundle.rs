@@ -1,0 +1,491 @@
+//! o and e waves that travel together (`bundle = TOL`, docs/physics.md
+//! §10): where a node feeds a crystal's two eigenwaves on one side, the
+//! exact tree follows each (and each of them feeds two more at the next
+//! internal reflection: 2^depth rays). A bundle follows both along one
+//! facet sequence instead: its two members are the exact rays of the
+//! all-o and the all-e chains, each traced and solved on its own, and the
+//! waves that change mode at a reflection (o → e, e → o) ride on the
+//! member of their new mode. A crystal's tree then grows as glass's does,
+//! one internal child per node.
+//!
+//! The approximation is the geometry of the mode-changing waves (the
+//! member's ray instead of their own, which differs from it by the angle
+//! between the o and e rays); it is bounded by splitting: where the
+//! members reach different facets, or their hit points are more than `TOL`
+//! pixel footprints apart ([`Tracer::footprint`]), each continues as an
+//! exact query of the incoherent tree (and may bundle again at its next
+//! node). Energy is carried exactly: every Jones block of the exact tree
+//! is applied, only rays are shared.
+//!
+//! Sums are those of the incoherent model (`coherence = "incoherent"`):
+//! the bundle's coherence matrix in its (o, e) mode basis is kept diagonal,
+//! each mode an intensity, so where no mode changes (a plate seen once)
+//! the bundled image equals the exact tree's. The physical model's o/e
+//! interference needs the exact tree; the settings refuse the combination.
+
+use super::integrator::{feeder_side, max_gain, Query, Region, Stats, Traced, Tracer};
+use super::integrator::{Node, WavelengthMedia};
+use super::sampling::SampleKey;
+use crate::optics::backward::Feeder;
+use crate::optics::modes::{Side, WaveKind};
+use crate::optics::{Coherence, Jones};
+use glam::DVec3;
+use num_complex::Complex64;
+
+/// One member of a bundle: the exact backward ray of one eigenwave.
+#[derive(Clone, Copy, Debug)]
+struct Member {
+    origin: DVec3,
+    dir: DVec3,
+    kind: WaveKind,
+}
+
+/// A backward query for both eigenwaves of a crystal (member 0 the
+/// ordinary, member 1 the extraordinary wave), inside object `object`.
+#[derive(Clone, Copy, Debug)]
+struct Bundle {
+    pub members: [Member; 2],
+    pub object: u32,
+    pub depth: u32,
+    /// Each member's path gain: the largest of the gains of the exact
+    /// tree's paths it stands for (what pruning tests).
+    pub throughput: [f64; 2],
+    pub path: u64,
+    /// The largest angle, radians, between the light this bundle carries
+    /// and its exact rays: the angles of the waves that rode on a member
+    /// (each keeps its angle along every later segment), summed along the
+    /// path.
+    pub drift: f64,
+}
+
+/// The feeder of `kind` on `side` in a node's list.
+fn find(list: &[Feeder], side: Side, kind: WaveKind) -> Option<&Feeder> {
+    list.iter()
+        .find(|f| f.wave.side == side && f.wave.kind == kind)
+}
+
+/// The o and e feeders on `side` of a node's list (indices), when it has
+/// both.
+fn eigenwave_pair(list: &[Feeder], side: Side) -> Option<(usize, usize)> {
+    let o = list
+        .iter()
+        .position(|f| f.wave.side == side && f.wave.kind == WaveKind::Ordinary)?;
+    let e = list
+        .iter()
+        .position(|f| f.wave.side == side && f.wave.kind == WaveKind::Extraordinary)?;
+    Some((o, e))
+}
+
+/// The block that takes a bundle's (o, e) modes to a node's target:
+/// `[T_o | T_e]`, one column per member (each feeder block has one column).
+fn pair_block(o: &Jones, e: &Jones) -> Jones {
+    let mut m = [[Complex64::new(0.0, 0.0); 2]; 2];
+    for (r, row) in m.iter_mut().enumerate().take(o.rows) {
+        *row = [o.m[r][0], e.m[r][0]];
+    }
+    Jones::from_entries(o.rows, 2, m)
+}
+
+/// The incoherent part of a bundle's matrix: each mode an intensity.
+#[inline]
+fn dephased(c: &Coherence) -> Coherence {
+    Coherence::from_matrix([
+        [Complex64::new(c.jxx(), 0.0), Complex64::new(0.0, 0.0)],
+        [Complex64::new(0.0, 0.0), Complex64::new(c.jyy(), 0.0)],
+    ])
+}
+
+impl Tracer<'_> {
+    /// At a node of the exact query `q` (at `point` on object `object`,
+    /// `normal` into `q`'s side, `other` across), traces each side's o and
+    /// e feeders in `list` (with `gains`) as one bundle and adds their
+    /// light to `out` (in the node's target basis); returns which feeders
+    /// it took.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn bundle_pairs(
+        &self,
+        q: &Query,
+        list: &[Feeder],
+        gains: &[f64; 4],
+        (point, object, normal, other): (DVec3, u32, DVec3, Region),
+        batch: &[WavelengthMedia],
+        key: &SampleKey,
+        out: &mut [Coherence],
+        scratch: &mut [Coherence],
+        stats: &mut Stats,
+    ) -> [bool; 4] {
+        let n = out.len();
+        let mut bundled = [false; 4];
+        for side in [Side::Plus, Side::Minus] {
+            let Some((io, ie)) = eigenwave_pair(list, side) else {
+                continue;
+            };
+            bundled[io] = true;
+            bundled[ie] = true;
+            let throughput = [q.throughput * gains[io], q.throughput * gains[ie]];
+            if throughput[0].max(throughput[1]) < self.settings.prune {
+                stats.pruned += 1;
+                continue;
+            }
+            let (fo, fe) = (&list[io], &list[ie]);
+            let (region, offset) = feeder_side(side, q.region, other, normal);
+            let Region::Inside(crystal) = region else {
+                unreachable!("eigenwaves live inside a crystal")
+            };
+            let origin = point + self.epsilon(object) * offset;
+            let member = |f: &Feeder| Member {
+                origin,
+                dir: -f.wave.ray,
+                kind: f.wave.kind,
+            };
+            let b = Bundle {
+                members: [member(fo), member(fe)],
+                object: crystal,
+                depth: q.depth + 1,
+                throughput,
+                path: q.path.wrapping_mul(4).wrapping_add(io as u64 + 1),
+                drift: q.drift,
+            };
+            let (child_out, deeper) = scratch.split_at_mut(n);
+            self.bundle_radiance(&b, batch, key, child_out, deeper, stats);
+            let block = pair_block(&fo.block, &fe.block);
+            for (o, j) in out.iter_mut().zip(child_out.iter()) {
+                *o += j.transform(&block);
+            }
+        }
+        bundled
+    }
+
+    /// Fills `out` (one 2-mode matrix per wavelength of `batch`, in the
+    /// bundle's (o, e) mode basis, diagonal) with the light of both
+    /// members of `b`. `scratch` as in [`Tracer::radiance`].
+    #[allow(clippy::too_many_arguments)]
+    fn bundle_radiance(
+        &self,
+        b: &Bundle,
+        batch: &[WavelengthMedia],
+        key: &SampleKey,
+        out: &mut [Coherence],
+        scratch: &mut [Coherence],
+        stats: &mut Stats,
+    ) {
+        let n = out.len();
+        let region = Region::Inside(b.object);
+        let [mo, me] = b.members;
+        if b.throughput[0].min(b.throughput[1]) < self.settings.prune {
+            // One member is pruned: the other alone, as the exact tree.
+            return self.split(b, None, batch, key, out, scratch, stats);
+        }
+        stats.rays += 2;
+        let traced = (
+            self.trace(mo.origin, mo.dir, stats),
+            self.trace(me.origin, me.dir, stats),
+        );
+        let (Some(to), Some(te)) = traced else {
+            return self.split(
+                b,
+                Some([traced.0, traced.1]),
+                batch,
+                key,
+                out,
+                scratch,
+                stats,
+            );
+        };
+        let (Some(ho), Some(he)) = (to.hit, te.hit) else {
+            return self.split(
+                b,
+                Some([Some(to), Some(te)]),
+                batch,
+                key,
+                out,
+                scratch,
+                stats,
+            );
+        };
+        let (po, pe) = (to.ray.expect("hit").at(ho.t), te.ray.expect("hit").at(he.t));
+        let allowed = self.bundle_tolerance() * self.footprint(po);
+        // The members stay together while both reach the same facet plane,
+        // close enough.
+        let together = ho.geom == he.geom && {
+            let mesh = &self.scene.objects[ho.geom as usize].mesh;
+            let (no, ne) = (mesh.triangle_normal(ho.prim), mesh.triangle_normal(he.prim));
+            let plane = ho.prim == he.prim
+                || (no.dot(ne) > 1.0 - 1e-12 && (po - pe).dot(no).abs() <= self.epsilon(ho.geom));
+            plane && (po - pe).length() <= allowed
+        };
+        if !together {
+            return self.split(
+                b,
+                Some([Some(to), Some(te)]),
+                batch,
+                key,
+                out,
+                scratch,
+                stats,
+            );
+        }
+        out.iter_mut().for_each(|o| *o = Coherence::zero(2));
+        let media = &batch[0];
+        let Traced { ray, hit, .. } = to;
+        let node_o = self.node(ray, hit, region, mo.kind, mo.dir, b.depth, media, stats);
+        let Traced { ray, hit, .. } = te;
+        let node_e = self.node(ray, hit, region, me.kind, me.dir, b.depth, media, stats);
+        let (Some(node_o), Some(node_e)) = (node_o, node_e) else {
+            // Depth cut or a lost ray (counted by `node`): nothing more.
+            return;
+        };
+        stats.nodes += 2;
+        stats.bundled += 1;
+        let nodes = [&node_o, &node_e];
+        let lists = [node_o.feeders.as_slice(), node_e.feeders.as_slice()];
+        // Reflection: each member continues as its own mode's specular
+        // feeder; the mode-changing feeders ride on the other member.
+        let own = [
+            find(lists[0], Side::Plus, WaveKind::Ordinary),
+            find(lists[1], Side::Plus, WaveKind::Extraordinary),
+        ];
+        let riding = [
+            find(lists[1], Side::Plus, WaveKind::Ordinary),
+            find(lists[0], Side::Plus, WaveKind::Extraordinary),
+        ];
+        let mut merged = false;
+        if let [Some(fo), Some(fe)] = own {
+            // R[a][c]: member a's target fed by mode c.
+            let entry = |a: usize, kind: WaveKind| {
+                find(lists[a], Side::Plus, kind)
+                    .map_or(Complex64::new(0.0, 0.0), |f| f.block.m[0][0])
+            };
+            let r = Jones::from_entries(
+                2,
+                2,
+                [
+                    [
+                        entry(0, WaveKind::Ordinary),
+                        entry(0, WaveKind::Extraordinary),
+                    ],
+                    [
+                        entry(1, WaveKind::Ordinary),
+                        entry(1, WaveKind::Extraordinary),
+                    ],
+                ],
+            );
+            // Mode c's strongest path: through whichever member feeds it
+            // most.
+            let throughput: [f64; 2] = std::array::from_fn(|c| {
+                (0..2)
+                    .map(|a| b.throughput[a] * r.m[a][c].norm_sqr())
+                    .fold(0.0, f64::max)
+            });
+            if throughput[0].max(throughput[1]) < self.settings.prune {
+                stats.pruned += 1;
+                merged = true;
+            } else {
+                // The angle between a riding wave's ray and its member's.
+                let turn = |x: Option<&Feeder>, f: &Feeder| {
+                    x.map_or(0.0, |x| {
+                        2.0 * (0.5 * (x.wave.ray - f.wave.ray).length()).min(1.0).asin()
+                    })
+                };
+                // Seen from the camera, light that left its exact ray at an
+                // angle reaches a source far away up to that angle / the
+                // pixel's angle in pixel footprints from where it should
+                // (nearer sources: less).
+                let drift = b.drift + turn(riding[0], fo).max(turn(riding[1], fe));
+                if drift == 0.0 || drift <= self.bundle_tolerance() * self.pixel_angle() {
+                    let member = |node: &Node, f: &Feeder| Member {
+                        origin: node.ray.at(node.hit.t) + self.epsilon(node.hit.geom) * node.normal,
+                        dir: -f.wave.ray,
+                        kind: f.wave.kind,
+                    };
+                    let child = Bundle {
+                        members: [member(&node_o, fo), member(&node_e, fe)],
+                        object: b.object,
+                        depth: b.depth + 1,
+                        throughput,
+                        path: b.path.wrapping_mul(4).wrapping_add(1),
+                        drift,
+                    };
+                    let (child_out, deeper) = scratch.split_at_mut(n);
+                    self.bundle_radiance(&child, batch, key, child_out, deeper, stats);
+                    merged = true;
+                    for (o, c) in out.iter_mut().zip(child_out.iter()) {
+                        *o += dephased(&c.transform(&r));
+                    }
+                }
+            }
+        }
+        if !merged {
+            // Each member's reflected waves on their own rays.
+            for (a, node) in nodes.iter().enumerate() {
+                self.reflect_member(node, a, b, batch, key, out, scratch, stats);
+            }
+        }
+        // Transmission: each member's own feeders on the far side (air, or
+        // another medium), traced as exact queries.
+        for (a, list) in lists.iter().enumerate() {
+            let node = nodes[a];
+            for (i, f) in list.iter().enumerate() {
+                if f.wave.side != Side::Minus {
+                    continue;
+                }
+                let throughput = b.throughput[a] * max_gain(&f.block);
+                if throughput < self.settings.prune {
+                    stats.pruned += 1;
+                    continue;
+                }
+                let (region, offset) = feeder_side(f.wave.side, region, node.other, node.normal);
+                let q = Query {
+                    origin: node.ray.at(node.hit.t) + self.epsilon(node.hit.geom) * offset,
+                    dir: -f.wave.ray,
+                    region,
+                    kind: f.wave.kind,
+                    depth: b.depth + 1,
+                    throughput,
+                    path: b.path.wrapping_mul(4).wrapping_add(2 + i as u64),
+                    drift: b.drift,
+                };
+                let (air_out, deeper) = scratch.split_at_mut(n);
+                self.radiance(&q, &f.wave.basis, batch, key, air_out, deeper, stats);
+                for (o, j) in out.iter_mut().zip(air_out.iter()) {
+                    *o += on_mode(a, j.transform(&f.block).jxx());
+                }
+            }
+        }
+    }
+
+    /// Adds to mode `a` of `out` the light member `a` of `b` receives from
+    /// its own reflected waves at `node`, each on its own ray (a new bundle
+    /// of the two, which starts as the exact waves of one point).
+    #[allow(clippy::too_many_arguments)]
+    fn reflect_member(
+        &self,
+        node: &Node,
+        a: usize,
+        b: &Bundle,
+        batch: &[WavelengthMedia],
+        key: &SampleKey,
+        out: &mut [Coherence],
+        scratch: &mut [Coherence],
+        stats: &mut Stats,
+    ) {
+        let n = out.len();
+        let list = node.feeders.as_slice();
+        let origin = node.ray.at(node.hit.t) + self.epsilon(node.hit.geom) * node.normal;
+        let (child_out, deeper) = scratch.split_at_mut(n);
+        if let Some((io, ie)) = eigenwave_pair(list, Side::Plus) {
+            let (fo, fe) = (&list[io], &list[ie]);
+            let throughput = [
+                b.throughput[a] * max_gain(&fo.block),
+                b.throughput[a] * max_gain(&fe.block),
+            ];
+            if throughput[0].max(throughput[1]) < self.settings.prune {
+                stats.pruned += 1;
+                return;
+            }
+            let member = |f: &Feeder| Member {
+                origin,
+                dir: -f.wave.ray,
+                kind: f.wave.kind,
+            };
+            let child = Bundle {
+                members: [member(fo), member(fe)],
+                object: b.object,
+                depth: b.depth + 1,
+                throughput,
+                path: b.path.wrapping_mul(8).wrapping_add(5 + a as u64),
+                drift: b.drift,
+            };
+            self.bundle_radiance(&child, batch, key, child_out, deeper, stats);
+            let block = pair_block(&fo.block, &fe.block);
+            for (o, c) in out.iter_mut().zip(child_out.iter()) {
+                *o += on_mode(a, c.transform(&block).jxx());
+            }
+            return;
+        }
+        for (i, f) in list.iter().enumerate() {
+            if f.wave.side != Side::Plus {
+                continue;
+            }
+            let throughput = b.throughput[a] * max_gain(&f.block);
+            if throughput < self.settings.prune {
+                stats.pruned += 1;
+                continue;
+            }
+            let q = Query {
+                origin,
+                dir: -f.wave.ray,
+                region: Region::Inside(b.object),
+                kind: f.wave.kind,
+                depth: b.depth + 1,
+                throughput,
+                path: b.path.wrapping_mul(8).wrapping_add(i as u64),
+                drift: b.drift,
+            };
+            self.radiance(&q, &f.wave.basis, batch, key, child_out, deeper, stats);
+            for (o, j) in out.iter_mut().zip(child_out.iter()) {
+                *o += on_mode(a, j.transform(&f.block).jxx());
+            }
+        }
+    }
+
+    /// Both members of `b` as exact queries of their own, their rays
+    /// traced already (`traced`) or not: `out` = diag(o's intensity, e's
+    /// intensity).
+    #[allow(clippy::too_many_arguments)]
+    fn split(
+        &self,
+        b: &Bundle,
+        traced: Option<[Option<Traced>; 2]>,
+        batch: &[WavelengthMedia],
+        key: &SampleKey,
+        out: &mut [Coherence],
+        scratch: &mut [Coherence],
+        stats: &mut Stats,
+    ) {
+        let n = out.len();
+        stats.splits += 1;
+        out.iter_mut().for_each(|o| *o = Coherence::zero(2));
+        let mut traced = traced.map(|[o, e]| [Some(o), Some(e)]);
+        for (a, m) in b.members.iter().enumerate() {
+            if b.throughput[a] < self.settings.prune {
+                stats.pruned += 1;
+                continue;
+            }
+            let q = Query {
+                origin: m.origin,
+                dir: m.dir,
+                region: Region::Inside(b.object),
+                kind: m.kind,
+                depth: b.depth,
+                throughput: b.throughput[a],
+                path: b.path.wrapping_mul(2).wrapping_add(a as u64),
+                drift: b.drift,
+            };
+            let (member_out, deeper) = scratch.split_at_mut(n);
+            // A member's own wave has one mode: its basis is unused.
+            let basis = &[DVec3::ZERO; 2];
+            match traced.as_mut().and_then(|t| t[a].take()) {
+                Some(t) => {
+                    self.radiance_traced(&q, t, basis, batch, key, member_out, deeper, stats)
+                }
+                None => self.radiance(&q, basis, batch, key, member_out, deeper, stats),
+            }
+            for (o, j) in out.iter_mut().zip(member_out.iter()) {
+                *o += on_mode(a, j.jxx());
+            }
+        }
+    }
+}
+
+/// An intensity `c` on mode `a` of a bundle (0: o, 1: e).
+#[inline]
+fn on_mode(a: usize, c: f64) -> Coherence {
+    let z = Complex64::new(0.0, 0.0);
+    let c = Complex64::new(c, 0.0);
+    Coherence::from_matrix(if a == 0 {
+        [[c, z], [z, z]]
+    } else {
+        [[z, z], [z, c]]
+    })
+}

@@ -1,0 +1,265 @@
+//! o and e bundles (`bundle = TOL`, render::bundle): where the two
+//! eigenwaves share their rays the bundled image is the exact tree's;
+//! where they part by more than the tolerance the bundle splits and the
+//! image is again the exact tree's; with every mode-changing wave riding
+//! on a member, energy is still conserved (a white furnace); and on a
+//! weakly birefringent gem the bundled image stays close to the exact one
+//! for a fraction of its rays.
+
+use crate::support::render as common;
+use common::*;
+use spar::render::film::Film;
+use spar::render::integrator::Stats;
+
+/// A `W`×`W`-pixel crystal slab `t` thick, its optic axis `axis`, seen
+/// by a camera `view` (TOML lines) above a checker-textured light, in the
+/// incoherent model with `bundle` pixel footprints.
+fn slab(medium: &str, axis: &str, view: &str, bundle: f64) -> String {
+    format!(
+        r#"
+{view}
+[render]
+wavelengths = [550.0]
+max_depth = 12
+prune = 1e-6
+coherence = "incoherent"
+bundle = {bundle}
+[[object]]
+mesh = "slab.obj"
+medium = "{medium}"
+optic_axis = {axis}
+[[light]]
+corners = [[-3.0, -3.0, -2.0], [3.0, -3.0, -2.0], [3.0, 3.0, -2.0], [-3.0, 3.0, -2.0]]
+radiance = 1.0
+texture = "builtin:checker"
+"#
+    )
+}
+
+const STRAIGHT_DOWN: &str = r#"
+[camera]
+projection = "orthographic"
+width = 3.0
+eye = [0.0, 0.0, 5.0]
+look_at = [0.0, 0.0, 0.0]
+up = [0.0, 1.0, 0.0]
+resolution = [24, 24]
+samples = 1
+"#;
+
+const OBLIQUE: &str = r#"
+[camera]
+eye = [0.0, -3.0, 4.0]
+look_at = [0.0, 0.0, 0.0]
+up = [0.0, 0.0, 1.0]
+fov = 30.0
+resolution = [24, 24]
+samples = 1
+"#;
+
+fn render_slab(toml: &str) -> (Film, Stats) {
+    let slab = box_obj([-1.0, -1.0, -0.25], [1.0, 1.0, 0.25]);
+    let (scene, _d) = common::scene(toml, &[("slab.obj", slab)]);
+    render_at(&scene, &[550.0])
+}
+
+/// Largest difference of any Stokes component over the image, relative to
+/// the brightest S0.
+fn worst_difference(a: &Film, b: &Film) -> f64 {
+    let mut peak = 0.0f64;
+    let mut worst = 0.0f64;
+    for y in 0..a.height {
+        for x in 0..a.width {
+            let (sa, sb) = (a.stokes(x, y, 0), b.stokes(x, y, 0));
+            peak = peak.max(sa[0]);
+            for i in 0..4 {
+                worst = worst.max((sa[i] - sb[i]).abs());
+            }
+        }
+    }
+    worst / peak
+}
+
+#[test]
+fn where_o_and_e_share_their_rays_a_bundle_is_the_exact_tree() {
+    // Straight down onto a slab whose optic axis lies in its faces: o and
+    // e travel the same normal line, and no reflection changes a mode.
+    let axis = "[0.6, 0.8, 0.0]";
+    let (exact, es) = render_slab(&slab("calcite", axis, STRAIGHT_DOWN, 0.0));
+    let (bundled, bs) = render_slab(&slab("calcite", axis, STRAIGHT_DOWN, 1.0));
+    let d = worst_difference(&exact, &bundled);
+    eprintln!(
+        "straight down: worst difference {d:.2e}; rays exact {} bundled {}; {} bundled nodes, \
+         {} splits",
+        es.rays, bs.rays, bs.bundled, bs.splits
+    );
+    assert_eq!(es.bundled, 0, "tolerance 0 must not bundle");
+    assert!(bs.bundled > 0, "nothing was bundled");
+    assert_eq!(bs.splits, 0, "o and e on one line must not split");
+    assert!(d < 1e-12, "bundled differs from the exact tree by {d}");
+}
+
+#[test]
+fn a_bundle_whose_rays_part_splits_into_the_exact_tree() {
+    // Calcite seen obliquely with a tilted axis: the o and e rays leave
+    // the slab a tenth of its thickness apart, tens of pixel footprints at
+    // 24×24. With a hundredth of a footprint every bundle whose members
+    // part splits, and every mode-changing wave that would drift from its
+    // member is traced on its own: the image converges to the exact tree's
+    // (a tolerance of 1 footprint moves the double image's light by up to
+    // a pixel).
+    let axis = "[0.3, 0.5, 0.8]";
+    let (exact, _) = render_slab(&slab("calcite", axis, OBLIQUE, 0.0));
+    let mut last = f64::INFINITY;
+    for tol in [1.0, 0.1, 0.01] {
+        let (bundled, bs) = render_slab(&slab("calcite", axis, OBLIQUE, tol));
+        let d = worst_difference(&exact, &bundled);
+        eprintln!(
+            "oblique calcite, tolerance {tol}: worst difference {d:.2e} of the peak; {} \
+             bundled nodes, {} splits, {} rays",
+            bs.bundled, bs.splits, bs.rays
+        );
+        assert!(bs.splits > 0, "no bundle split at {tol}");
+        assert!(
+            d <= last,
+            "farther from the exact tree at {tol}: {d} after {last}"
+        );
+        if tol == 1.0 {
+            assert!(d > 1e-3, "a footprint moved no light: {d}");
+        }
+        last = d;
+    }
+    assert!(
+        last < 1e-6,
+        "at 0.01 footprints still {last} from the exact tree"
+    );
+}
+
+#[test]
+fn bundles_conserve_energy_in_a_white_furnace() {
+    // The brilliant in a uniform background (render_furnace.rs), every
+    // eigenwave pair bundled however far its rays part on a shared facet:
+    // the mode-changing waves ride on the wrong ray, but every Jones block
+    // is applied, so the gem must still vanish.
+    for (medium, depth) in [("quartz", 40), ("calcite", 40)] {
+        let toml = format!(
+            r#"
+[camera]
+eye = [0.0, -0.001, 4.2]
+look_at = [0.0, 0.0, -0.1]
+up = [0.0, 0.0, 1.0]
+fov = 34.0
+resolution = [16, 16]
+samples = 1
+[render]
+max_depth = {depth}
+prune = 1e-7
+coherence = "incoherent"
+bundle = 1e9
+[[object]]
+mesh = "builtin:brilliant"
+medium = "{medium}"
+optic_axis = [0.3, 0.5, 0.8]
+transform = {{ scale = 0.0416667, translate = [0.0, 0.0, -1.0] }}
+[background]
+radiance = 1.0
+"#
+        );
+        let (scene, _d) = common::scene(&toml, &[]);
+        let (film, stats) = render_at(&scene, &[550.0]);
+        let bg = spar::spectrum::cie::d65(550.0);
+        let (mut di, mut dp) = (0.0f64, 0.0f64);
+        for y in 0..film.height {
+            for x in 0..film.width {
+                let s = film.stokes(x, y, 0);
+                let (p, _, _) = polarimetry(s);
+                di = di.max((s[0] / bg - 1.0).abs());
+                dp = dp.max(p);
+            }
+        }
+        eprintln!(
+            "{medium} furnace, bundled, depth {depth}: worst |I − 1| = {di:.2e}, worst P = \
+             {dp:.2e}, {} bundled nodes, {} splits, {} rays",
+            stats.bundled, stats.splits, stats.rays
+        );
+        assert!(stats.bundled > 0);
+        assert!(di < 0.01, "{medium}: intensity off by {di}");
+        assert!(dp < 0.01, "{medium}: P = {dp}");
+    }
+}
+
+#[test]
+fn a_bundled_quartz_gem_trades_rays_for_a_bounded_error() {
+    // The Trichecker in quartz (Δn = 0.009) over the checker light, seen
+    // obliquely. The error of a bundle is light moved by up to its
+    // tolerance per segment: it must shrink with the tolerance (to the
+    // exact tree's image), and the rays must fall as the tolerance grows.
+    let toml = |bundle: f64| {
+        format!(
+            r#"
+[camera]
+eye = [0.0, -3.2, 4.2]
+look_at = [0.0, 0.0, -0.1]
+up = [0.0, 0.0, 1.0]
+fov = 28.0
+resolution = [32, 32]
+samples = 1
+[render]
+max_depth = 20
+prune = 1e-4
+coherence = "incoherent"
+bundle = {bundle}
+[[object]]
+mesh = "builtin:trichecker12"
+medium = "quartz"
+optic_axis = [0.0, 0.6, 0.8]
+[[light]]
+corners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, -1.5]]
+radiance = 1.0
+texture = "builtin:checker"
+"#
+        )
+    };
+    let (s0, _d0) = common::scene(&toml(0.0), &[]);
+    let (exact, es) = render_at(&s0, &[550.0]);
+    // RMSE of S0 over the image, relative to the mean S0.
+    let rmse = |film: &Film| {
+        let (mut mean, mut e, mut n) = (0.0, 0.0, 0.0);
+        for y in 0..exact.height {
+            for x in 0..exact.width {
+                let (a, b) = (exact.stokes(x, y, 0), film.stokes(x, y, 0));
+                mean += a[0];
+                e += (a[0] - b[0]).powi(2);
+                n += 1.0;
+            }
+        }
+        (e / n).sqrt() / (mean / n)
+    };
+    let mut last: Option<(f64, u64)> = None;
+    for tol in [0.001, 0.3, 3.0] {
+        let (s, _d) = common::scene(&toml(tol), &[]);
+        let (bundled, bs) = render_at(&s, &[550.0]);
+        let r = rmse(&bundled);
+        eprintln!(
+            "quartz 32×32, tolerance {tol}: S0 RMSE {r:.2e} of the mean; rays {} of the exact \
+             tree's {} ({:.2}×)",
+            bs.rays,
+            es.rays,
+            es.rays as f64 / bs.rays as f64
+        );
+        match last {
+            None => assert!(r < 1e-6, "at 0.001 footprints S0 is {r} off"),
+            Some((lr, lrays)) => {
+                assert!(r > lr, "a wider tolerance, no more error: {r} after {lr}");
+                assert!(bs.rays < lrays, "a wider tolerance, no fewer rays");
+            }
+        }
+        last = Some((r, bs.rays));
+    }
+    let (_, rays) = last.expect("three tolerances");
+    assert!(
+        rays * 3 < es.rays,
+        "3 footprints saved too little: {rays} vs {}",
+        es.rays
+    );
+}
