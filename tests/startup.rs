@@ -128,7 +128,7 @@ fn renders_write_png_exr_and_tiff() {
         assert_eq!((image.width(), image.height()), (8, 8), "{file}");
         if mode == "stokes" {
             assert!(
-                image.channel_index("S0_580nm").is_ok(),
+                image.channel_index("S0.580nm").is_ok(),
                 "{:?}",
                 image.channels()
             );

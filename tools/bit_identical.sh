@@ -10,6 +10,10 @@
 # with coherent light (issue 12) appends to the new image's spar:settings,
 # spar:scene_hash when both images carry one and they differ, and the
 # spar:wavelengths_nm attribute when only the new image has it (see below).
+# A Stokes EXR is in the JCGT 2021 layout since issue 16 (channels S0.580nm,
+# an RGB preview, three layout attributes): when the old one is not, the new
+# one's channels are compared under the old names (S0_580nm, or S0 for one
+# wavelength) and the preview and layout attributes are left out.
 # Used for refactors that must not change a single output bit (issue 14).
 set -euo pipefail
 old=$1 new=$2 dir=${3:-$(mktemp -d)}
@@ -47,10 +51,29 @@ for f in "$dir"/old/*.png "$dir"/old/*.exr; do
   [ -e "$f" ] || continue
   g=$dir/new/$(basename "$f")
   if [ ! -e "$g" ]; then echo "FAIL $(basename "$f"): missing in new"; fail=1; continue; fi
+  if [[ $f == *.exr ]] && iinfo -v "$g" | grep -q spectralLayoutVersion && ! iinfo -v "$f" | grep -q spectralLayoutVersion; then
+    # Old names from the old file: S<c>_<λ>nm -> S<c>.<λ>nm, S<c> -> S<c>.<λ>nm.
+    nm=$(iinfo -v "$g" | sed -n 's/^ *spar:wavelengths_nm: "\(.*\)"$/\1/p')
+    spec=$(iinfo -v "$f" | sed -n 's/^ *channel list: //p' | tr -d ' ' | tr ',' '\n' |
+      while read -r ch; do
+        case $ch in
+          S[0-3]_*nm) new=${ch%%_*}.${ch#*_}; new=${new/./@}; new=${new//./,}; new=${new/@/.} ;;
+          S[0-3]) new=$ch.${nm//./,}nm ;;
+          *) new=$ch ;;
+        esac
+        printf '%s=%s\n' "$ch" "$new"
+      done | paste -sd, -)
+    oiiotool "$g" --ch "$spec" -o "$g.old-names.exr" >/dev/null 2>&1 &&
+      mv "$g.old-names.exr" "$g" || { echo "FAIL $(basename "$f"): cannot rename the new channels"; fail=1; continue; }
+  fi
   if ! idiff -fail 0 -failpercent 0 -warn 0 "$f" "$g" >/dev/null 2>&1; then
     echo "FAIL $(basename "$f"): pixels differ"; fail=1; continue
   fi
   mo=$(meta "$f" old) mn=$(meta "$g" new)
+  if [[ $f == *.exr ]] && grep -q spectralLayoutVersion <<<"$mn" && ! grep -q spectralLayoutVersion <<<"$mo"; then
+    # The layout's attributes, and what oiiotool's renaming added.
+    mn=$(grep -v -e spectralLayoutVersion -e emissiveUnits -e polarisationHandedness -e '^ *Software: "OpenImageIO' -e 'Exif:ImageHistory' <<<"$mn" || true)
+  fi
   # spar:scene_hash now also hashes lights at infinity and the scene unit
   # (issue 12), so it legitimately changed for the same scene: when both
   # images carry one and they differ, leave it out (a missing one still fails).

@@ -299,15 +299,15 @@ def read_exr_channels(mi, path):
 
 def stokes(mi, path, what):
     """[S0, S1, S2, S3] (4×H×W) from named channels. Mitsuba: the mean of
-    each component's .R, .G, .B; spar: S<i>, or S<i>_580nm with several
-    wavelengths."""
+    each component's .R, .G, .B; spar: S<i>.580nm (the JCGT 2021 spectral
+    layout)."""
     ch = read_exr_channels(mi, path)
     out = []
     for i in range(4):
         if what == "mitsuba":
             keys = [f"S{i}.{c}" for c in "RGB"]
         else:
-            keys = [f"S{i}"] if f"S{i}" in ch else [f"S{i}_{WAVELENGTH_NM:.0f}nm"]
+            keys = [f"S{i}.{WAVELENGTH_NM:.0f}nm"]
         missing = [k for k in keys if k not in ch]
         if missing:
             raise SystemExit(f"{path}: no channel(s) {missing}; it has {sorted(ch)}")

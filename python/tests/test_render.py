@@ -70,7 +70,7 @@ def test_stokes_array_is_the_cli_exr_bit_for_bit(both):
     )
     for i, l in enumerate(r.wavelengths):
         for c in range(4):
-            cli = channels[f"S{c}_{l:.0f}nm"]
+            cli = channels[f"S{c}.{l:.0f}nm"]
             assert cli.shape == (16, 24)
             assert np.array_equal(bits(cli), bits(stokes[i, :, :, c])), (l, c)
     # The comparison means something: light arrives, and it is polarized.
@@ -102,13 +102,13 @@ def test_one_wavelength_as_the_cli_wavelength_flag(run_spar, repo, tmp_path):
     out = tmp_path / "one.exr"
     run_spar("render", scene_file, "--mode", "stokes", "--wavelength", "550", *CLI_FLAGS, "-q", "-o", out)
     channels, _ = exr(out)
-    assert sorted(channels) == ["S0", "S1", "S2", "S3"]
+    assert sorted(channels) == ["S0.550nm", "S1.550nm", "S2.550nm", "S3.550nm"]
     scene = spar.load_scene(os.path.join(repo, scene_file))
     r = scene.render(mode="stokes", wavelength=550, accel="rust", **FLAGS)
     assert r.stokes.shape == (1, 16, 24, 4)
     assert r.wavelengths.tolist() == [550.0]
     for c in range(4):
-        assert np.array_equal(bits(channels[f"S{c}"]), bits(r.stokes[0, :, :, c]))
+        assert np.array_equal(bits(channels[f"S{c}.550nm"]), bits(r.stokes[0, :, :, c]))
 
 
 def test_render_settings_apply_to_that_render_only(repo):

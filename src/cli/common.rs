@@ -6,7 +6,7 @@ use super::error::CliError;
 use crate::farm::progress::Reporter;
 use crate::image::{Image, PixelType, WriteOptions};
 use crate::render::film::Film;
-use crate::render::output::{develop, develop_files, OutputMode, Storage};
+use crate::render::output::{develop, develop_files, map_of, stokes_preview, OutputMode, Storage};
 use crate::scene::{builtin, Scene};
 use crate::spectrum::WavelengthSet;
 use std::path::{Path, PathBuf};
@@ -104,7 +104,7 @@ fn writes(mode: OutputMode) -> String {
             .join(", ")
     };
     match mode {
-        OutputMode::Stokes => "writes float Stokes values, an OpenEXR file (.exr)".into(),
+        m if m.is_stokes() => "writes float Stokes values, an OpenEXR file (.exr)".into(),
         m if m.is_polcam() => format!(
             "writes linear float intensities (.exr) or a display image ({})",
             list(m.extensions().into_iter().filter(|&e| e != "exr").collect())
@@ -118,8 +118,8 @@ fn writes(mode: OutputMode) -> String {
 
 /// What `--wavelength` does for `modes`: the modes as traced (stokes
 /// becomes mono's one wavelength when `--wavelength` is given) and the
-/// Stokes EXR's wavelength. A `--wavelength` no mode uses (color alone)
-/// is refused (exit status 2) rather than ignored.
+/// Stokes EXR's wavelength. A `--wavelength` no mode uses (color or
+/// stokes-rgb alone) is refused (exit status 2) rather than ignored.
 pub fn wavelength_use(
     wavelength: Option<f64>,
     modes: &[OutputMode],
@@ -127,11 +127,18 @@ pub fn wavelength_use(
     let Some(nm) = wavelength else {
         return Ok((modes.to_vec(), None));
     };
-    if modes.iter().all(|&m| m == OutputMode::Color) {
+    if modes.iter().all(|&m| !m.uses_wavelength()) {
+        let names: Vec<&str> = modes.iter().map(|m| m.name()).collect();
+        let users: Vec<&str> = <OutputMode as clap::ValueEnum>::value_variants()
+            .iter()
+            .filter(|m| m.uses_wavelength())
+            .map(|m| m.name())
+            .collect();
         return Err(CliError::input(format!(
-            "--wavelength {nm}: the color mode uses the scene's wavelengths (render.wavelengths, \
-             --wavelengths), not --wavelength; it sets the wavelength of mono, dop, ellipticity, \
-             ellipticity-paper, azimuth, polcam, polcam-mosaic and stokes"
+            "--wavelength {nm}: the {} mode uses the scene's wavelengths (render.wavelengths, \
+             --wavelengths), not --wavelength; it sets the wavelength of {}",
+            names.join(","),
+            users.join(", ")
         )));
     }
     let stokes = modes.contains(&OutputMode::Stokes).then_some(nm);
@@ -143,6 +150,30 @@ pub fn wavelength_use(
         })
         .collect();
     Ok((traced, stokes))
+}
+
+/// `--wavelength`'s default, nm.
+pub const DEFAULT_WAVELENGTH: f64 = 580.0;
+
+/// The single-wavelength modes' wavelength for commands that develop
+/// `modes` from one render (`compare`, `contact-sheet`, `speed-error`):
+/// `--wavelength` if given (checked, and refused with exit status 2 when
+/// none of `modes` uses it, rather than ignored), else 580 nm.
+pub fn mono_wavelength(wavelength: Option<f64>, modes: &[OutputMode]) -> Result<f64, CliError> {
+    let Some(nm) = wavelength else {
+        return Ok(DEFAULT_WAVELENGTH);
+    };
+    check_wavelength(nm)?;
+    if modes.iter().all(|m| !m.uses_wavelength()) {
+        let names: Vec<&str> = modes.iter().map(|m| m.name()).collect();
+        return Err(CliError::input(format!(
+            "--wavelength {nm}: no mode asked for uses it ({} use the scene's wavelengths, \
+             render.wavelengths or --wavelengths); it sets the wavelength of mono, dop, \
+             ellipticity, ellipticity-paper, azimuth, aolp, dolp and the polvis maps",
+            names.join(",")
+        )));
+    }
+    Ok(nm)
 }
 
 /// Refuses rendered values that are not finite (no NaN pixel is ever
@@ -309,11 +340,38 @@ pub fn write_modes(
                 OutputMode::Stokes => stokes_film,
                 _ => film,
             };
-            let images =
-                develop_files(film, f.mode, colour, mono_nm, f.storage).map_err(CliError::input)?;
+            let images = if f.mode == OutputMode::Sheet {
+                vec![super::legend::sheet(film, colour, mono_nm)?.0]
+            } else {
+                develop_files(film, f.mode, colour, mono_nm, f.storage).map_err(CliError::input)?
+            };
             developed = Some((f.mode, images));
         }
         let mut image = developed.as_ref().expect("developed above").1[f.part].clone();
+        // The Stokes file's RGB preview (JCGT 2021 layout), where the film
+        // holds the colour wavelengths.
+        if f.mode == OutputMode::Stokes {
+            if let Some(rgb) = stokes_preview(stokes_film, colour) {
+                let mut planes: Vec<(String, Vec<f32>)> = ["R", "G", "B"]
+                    .iter()
+                    .map(|c| c.to_string())
+                    .zip(rgb)
+                    .collect();
+                for name in image.channels().to_vec() {
+                    let plane = image.channel(&name)?;
+                    planes.push((name, plane));
+                }
+                let metadata = image.metadata().clone();
+                image = Image::from_planes(image.width(), image.height(), planes)?;
+                for (k, v) in metadata {
+                    image = image.with_metadata(k, v);
+                }
+            }
+        }
+        // The false-colour maps carry their legend in display images.
+        if let (Storage::Display, Some(map)) = (f.storage, map_of(f.mode, f.part)) {
+            image = super::legend::with_legend(&image, map)?;
+        }
         for (k, v) in metadata {
             image = image.with_metadata(k.clone(), v.clone());
         }
@@ -321,6 +379,10 @@ pub fn write_modes(
         match f.mode {
             OutputMode::Stokes => {
                 let nms: Vec<String> = stokes_film.lambdas.iter().map(|l| l.to_string()).collect();
+                image = image.with_metadata("spar:wavelengths_nm", nms.join(","));
+            }
+            OutputMode::StokesRgb => {
+                let nms: Vec<String> = colour.lambdas().iter().map(|l| l.to_string()).collect();
                 image = image.with_metadata("spar:wavelengths_nm", nms.join(","));
             }
             m if m.is_polcam() => {

@@ -12,7 +12,7 @@
 //! hit points.
 
 use super::args::SceneOverrides;
-use super::common::{check_output, check_wavelength, develop_image, load_scene};
+use super::common::{check_output, develop_image, load_scene, mono_wavelength};
 use super::error::CliError;
 use super::render::{render_film, Rendered};
 use crate::accel::AccelKind;
@@ -39,9 +39,10 @@ pub struct CompareArgs {
     #[arg(long, short, default_value = "diff.png")]
     pub output: PathBuf,
     /// Wavelength of the single-wavelength modes (mono, dop, ellipticity,
-    /// azimuth), nm.
-    #[arg(long, default_value_t = 580.0)]
-    pub wavelength: f64,
+    /// azimuth, aolp, dolp, polvis maps), nm; default 580. Refused when no
+    /// mode asked for uses it (color alone).
+    #[arg(long)]
+    pub wavelength: Option<f64>,
     #[command(flatten)]
     pub overrides: SceneOverrides,
     /// Worker threads of each render (default: all cores).
@@ -202,7 +203,6 @@ pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
     }
     let mut scene = load_scene(args.scene.as_deref())?;
     args.overrides.apply(&mut scene)?;
-    check_wavelength(args.wavelength)?;
     if args.mode.contains(&OutputMode::Color) {
         crate::spectrum::Observer::new(&scene.settings.wavelengths)
             .map_err(|e| CliError::input(format!("wavelengths for the color mode: {e}")))?;
@@ -212,6 +212,17 @@ pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
     if modes.is_empty() {
         return Err(CliError::input("--mode needs at least one mode"));
     }
+    if modes.contains(&OutputMode::Sheet) {
+        return Err(CliError::input(
+            "--mode sheet: spar compare compares modes, not the sheet: give color,polvis-dop,aolp",
+        ));
+    }
+    if modes.contains(&OutputMode::PolvisStokes) {
+        return Err(CliError::input(
+            "--mode polvis-stokes: spar compare does not compare its three images; compare \
+             stokes instead",
+        ));
+    }
     if let Some(m) = modes.iter().find(|m| m.is_polcam()) {
         return Err(CliError::input(format!(
             "--mode {}: spar compare does not compare the polarization camera's images; compare \
@@ -219,6 +230,7 @@ pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
             m.name()
         )));
     }
+    let mono_nm = mono_wavelength(args.wavelength, &modes)?;
     let several = modes.len() > 1;
     for &m in &modes {
         check_output(&diff_path(&args.output, m, several))?;
@@ -244,7 +256,7 @@ pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
     for round in 0..args.repeat {
         for (i, kind) in kinds.into_iter().enumerate() {
             let c0 = process_cpu_seconds();
-            let r = render_film(&scene, &modes, args.wavelength, threads, false, kind)?;
+            let r = render_film(&scene, &modes, mono_nm, threads, false, kind)?;
             let c = c0.zip(process_cpu_seconds()).map(|(a, b)| b - a);
             cpu[i] = match (cpu[i], c) {
                 (Some(best), Some(c)) => Some(best.min(c)),
@@ -342,8 +354,7 @@ pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
     let mut rows = vec![("raw (Stokes sums)".to_string(), raw)];
     let mut written = Vec::new();
     for &m in &modes {
-        let dev =
-            |r: &Rendered| develop_image(&r.film, m, &scene.settings.wavelengths, args.wavelength);
+        let dev = |r: &Rendered| develop_image(&r.film, m, &scene.settings.wavelengths, mono_nm);
         let (a, b) = (dev(&runs[0])?, dev(&runs[1])?);
         let nch = a.channels().len();
         let (d, rel) = difference(a.data(), b.data(), nch);

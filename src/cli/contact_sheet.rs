@@ -4,7 +4,7 @@
 //! `spar contact-sheet scenes/{glass,calcite}-{unpolarized,polarized}.toml`.
 
 use super::args::{AccelArgs, SceneOverrides};
-use super::common::{check_wavelength, develop_image};
+use super::common::{develop_image, mono_wavelength};
 use super::error::CliError;
 use super::render::render_film;
 use crate::image::{draw_text, Image, PixelType, WriteOptions};
@@ -34,9 +34,10 @@ pub struct ContactSheetArgs {
     /// The sheet (PNG).
     #[arg(long, short, default_value = "contact-sheet.png")]
     pub output: PathBuf,
-    /// Wavelength of the single-wavelength modes, nm.
-    #[arg(long, default_value_t = 580.0)]
-    pub wavelength: f64,
+    /// Wavelength of the single-wavelength modes, nm; default 580.
+    /// Refused when no mode asked for uses it (color alone).
+    #[arg(long)]
+    pub wavelength: Option<f64>,
     #[command(flatten)]
     pub overrides: SceneOverrides,
     #[command(flatten)]
@@ -50,9 +51,20 @@ pub struct ContactSheetArgs {
 }
 
 pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
-    if args.mode.contains(&OutputMode::Stokes) {
+    if let Some(m) = args.mode.iter().find(|m| m.is_stokes()) {
+        return Err(CliError::input(format!(
+            "the {} mode is data (EXR), not a picture: leave it out of a contact sheet",
+            m.name()
+        )));
+    }
+    if args.mode.contains(&OutputMode::PolvisStokes) {
         return Err(CliError::input(
-            "the stokes mode is data (EXR), not a picture: leave it out of a contact sheet",
+            "the polvis-stokes mode is three images (S1, S2, S3): render it with spar render",
+        ));
+    }
+    if args.mode.contains(&OutputMode::Sheet) {
+        return Err(CliError::input(
+            "the sheet mode is a sheet of its own: give contact-sheet the modes (color,dop,aolp)",
         ));
     }
     if let Some(m) = args.mode.iter().find(|m| m.is_polcam()) {
@@ -62,7 +74,7 @@ pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
             m.name()
         )));
     }
-    check_wavelength(args.wavelength)?;
+    let mono_nm = mono_wavelength(args.wavelength, &args.mode)?;
     let accel = args.accel.kind(None)?;
     // The panels' labels are drawn by OpenImageIO: refuse before rendering.
     if !cfg!(feature = "native") {
@@ -106,12 +118,23 @@ pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
     for (c, &mode) in args.mode.iter().enumerate() {
         let label = match mode {
             OutputMode::Color => "color".to_string(),
-            OutputMode::Mono => format!("mono {:.0} nm", args.wavelength),
-            OutputMode::Dop => format!("DoP {:.0} nm", args.wavelength),
-            OutputMode::Ellipticity => format!("b/a {:.0} nm", args.wavelength),
-            OutputMode::EllipticityPaper => format!("E paper {:.0} nm", args.wavelength),
-            OutputMode::Azimuth => format!("azimuth {:.0} nm", args.wavelength),
-            OutputMode::Stokes | OutputMode::Polcam | OutputMode::PolcamMosaic => {
+            OutputMode::Mono => format!("mono {:.0} nm", mono_nm),
+            OutputMode::Dop => format!("DoP {:.0} nm", mono_nm),
+            OutputMode::Ellipticity => format!("b/a {:.0} nm", mono_nm),
+            OutputMode::EllipticityPaper => format!("E paper {:.0} nm", mono_nm),
+            OutputMode::Azimuth => format!("azimuth {:.0} nm", mono_nm),
+            OutputMode::Aolp
+            | OutputMode::Dolp
+            | OutputMode::PolvisDop
+            | OutputMode::PolvisTop
+            | OutputMode::PolvisLin
+            | OutputMode::PolvisCir => format!("{} {:.0} nm", mode.name(), mono_nm),
+            OutputMode::Stokes
+            | OutputMode::StokesRgb
+            | OutputMode::Polcam
+            | OutputMode::PolcamMosaic
+            | OutputMode::PolvisStokes
+            | OutputMode::Sheet => {
                 unreachable!("refused above")
             }
         };
@@ -122,14 +145,7 @@ pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
             eprintln!("rendering {}", path.display());
         }
         let threads = args.threads.unwrap_or(0);
-        let done = render_film(
-            scene,
-            &args.mode,
-            args.wavelength,
-            threads,
-            !args.quiet,
-            accel,
-        )?;
+        let done = render_film(scene, &args.mode, mono_nm, threads, !args.quiet, accel)?;
         let name = path.file_stem().map_or_else(
             || path.display().to_string(),
             |s| s.to_string_lossy().into_owned(),
@@ -137,12 +153,7 @@ pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
         let top = LABEL_HEIGHT + r * row_h;
         labels.push((GAP as i32 + 2, baseline(top), name));
         for (c, &mode) in args.mode.iter().enumerate() {
-            let image = develop_image(
-                &done.film,
-                mode,
-                &scene.settings.wavelengths,
-                args.wavelength,
-            )?;
+            let image = develop_image(&done.film, mode, &scene.settings.wavelengths, mono_nm)?;
             let (x0, y0) = (GAP + c * cell_w, top + LABEL_HEIGHT);
             for y in 0..h {
                 for x in 0..w {

@@ -12,6 +12,7 @@ pub mod cut;
 pub mod develop;
 pub mod error;
 pub mod interface;
+pub mod legend;
 pub mod merge;
 pub mod plan;
 pub mod plot;

@@ -60,7 +60,7 @@ const FONTS: &[&str] = &[
 ];
 
 /// Registers a sans-serif font with plotters once.
-fn register_font() -> Result<(), String> {
+pub(crate) fn register_font() -> Result<(), String> {
     static DONE: OnceLock<Result<(), String>> = OnceLock::new();
     DONE.get_or_init(|| {
         let bytes = FONTS

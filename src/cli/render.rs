@@ -34,11 +34,16 @@ pub struct RenderArgs {
     /// gem over a textured light.
     pub scene: Option<PathBuf>,
     /// Camera modes, comma-separated: color, mono, dop, ellipticity,
-    /// ellipticity-paper, azimuth, stokes, polcam (four images behind
-    /// polarizers at 0, 45, 90, 135 degrees), polcam-mosaic (them as a
-    /// polarization sensor's 2x2 mosaic). With a raw output they choose
-    /// the wavelengths traced.
-    #[arg(long, short, value_delimiter = ',', default_value = "color")]
+    /// ellipticity-paper, azimuth, stokes (JCGT 2021 spectral EXR),
+    /// stokes-rgb (Mitsuba 3's S0.R..S3.B), aolp, dolp, polvis-stokes,
+    /// polvis-dop, polvis-top, polvis-lin, polvis-cir (false colours with
+    /// legends), polcam (four images behind polarizers at 0, 45, 90, 135
+    /// degrees), polcam-mosaic (them as a polarization sensor's 2x2
+    /// mosaic), sheet (color, DoP and AoLP side by side, labelled).
+    /// Default: sheet without a scene file (the first run), color with
+    /// one or for a raw output. With a raw output they choose the
+    /// wavelengths traced.
+    #[arg(long, short, value_delimiter = ',')]
     pub mode: Vec<OutputMode>,
     /// Output file (default: spar, with each mode's own extension). Its
     /// extension must fit the mode: .exr for stokes; .png (.tif, .jpg with
@@ -50,9 +55,10 @@ pub struct RenderArgs {
     #[arg(long, short)]
     pub output: Option<PathBuf>,
     /// Wavelength of the single-wavelength modes (mono, dop, ellipticity,
-    /// ellipticity-paper, azimuth, polcam, polcam-mosaic), nm; default
-    /// 580. Given with stokes, the Stokes EXR holds this wavelength only.
-    /// Refused when no mode asked for uses it (color alone).
+    /// ellipticity-paper, azimuth, aolp, dolp, the polvis maps, polcam,
+    /// polcam-mosaic, the sheet's maps), nm; default 580. Given with
+    /// stokes, the Stokes EXR holds this wavelength only. Refused when no
+    /// mode asked for uses it (color or stokes-rgb alone).
     #[arg(long)]
     pub wavelength: Option<f64>,
     #[command(flatten)]
@@ -150,8 +156,7 @@ fn film_what(
     format!("{size}{part} with {lambdas}")
 }
 
-/// `--wavelength`'s default, nm.
-pub const DEFAULT_WAVELENGTH: f64 = 580.0;
+pub use super::common::DEFAULT_WAVELENGTH;
 
 /// What `spar render`'s flags ask for, checked before any work starts.
 struct Job {
@@ -224,14 +229,26 @@ fn checked_job(args: &RenderArgs) -> Result<Job, CliError> {
     if let Some(nm) = args.wavelength {
         check_wavelength(nm)?;
     }
-    if args.mode.contains(&OutputMode::Color) {
-        crate::spectrum::Observer::new(&scene.settings.wavelengths)
-            .map_err(|e| CliError::input(format!("wavelengths for the color mode: {e}")))?;
-    }
-    let mut modes = args.mode.clone();
+    let raw =
+        args.farm.raw || args.farm.region.is_some() || args.farm.tile.is_some() || block.is_some();
+    // Without --mode: the first-run sheet for the default scene, color
+    // for a scene file or a raw output (docs/outputs.md).
+    let mut modes = if !args.mode.is_empty() {
+        args.mode.clone()
+    } else if args.scene.is_none() && !raw {
+        vec![OutputMode::Sheet]
+    } else {
+        vec![OutputMode::Color]
+    };
     modes.dedup();
-    if modes.is_empty() {
-        return Err(CliError::input("--mode needs at least one mode"));
+    if let Some(m) = modes.iter().find(|m| {
+        matches!(
+            m,
+            OutputMode::Color | OutputMode::StokesRgb | OutputMode::Sheet
+        )
+    }) {
+        crate::spectrum::Observer::new(&scene.settings.wavelengths)
+            .map_err(|e| CliError::input(format!("wavelengths for the {} mode: {e}", m.name())))?;
     }
     let (traced, stokes_nm) = wavelength_use(args.wavelength, &modes)?;
     let mono_nm = args.wavelength.unwrap_or(DEFAULT_WAVELENGTH);
@@ -256,7 +273,6 @@ fn checked_job(args: &RenderArgs) -> Result<Job, CliError> {
             mono_nm,
         ),
     )?;
-    let raw = farm.raw || farm.region.is_some() || farm.tile.is_some() || block.is_some();
     let (output, files) = check_outputs(args, raw, &modes)?;
     let label = args
         .scene

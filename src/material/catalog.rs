@@ -10,6 +10,7 @@ use super::{Dispersion, Material};
 pub const BUILTIN_NAMES: &[&str] = &[
     "vacuum",
     "air",
+    "standard-air",
     "n-bk7",
     "fused-silica",
     "diamond",
@@ -20,6 +21,7 @@ pub const BUILTIN_NAMES: &[&str] = &[
 
 /// Aliases and the canonical name each stands for.
 const ALIASES: &[(&str, &str)] = &[
+    ("ciddor-air", "standard-air"),
     ("bk7", "n-bk7"),
     ("silica", "fused-silica"),
     ("crystal-quartz", "quartz"),
@@ -30,13 +32,23 @@ pub fn vacuum() -> Material {
     Material::isotropic("vacuum", Dispersion::Constant(1.0)).expect("valid")
 }
 
-/// Standard dry air (15 °C, 101 325 Pa, 450 ppm CO₂).
+/// Air as renders have it around every object: n = 1 exactly, the
+/// ambient medium of every scene (`render::integrator::AMBIENT`), so that
+/// `air` names one medium in scene files, renders and `spar interface`.
+/// Real air's index, for comparisons that need it, is [`standard_air`].
 pub fn air() -> Material {
+    Material::isotropic("air", Dispersion::Constant(1.0)).expect("valid")
+}
+
+/// Standard dry air (15 °C, 101 325 Pa, 450 ppm CO₂), `standard-air`:
+/// n − 1 = 2.77e-4 at 589.3 nm. Renders do not put it around objects
+/// ([`air`]); a scene may use it as an object's medium.
+pub fn standard_air() -> Material {
     // Ciddor 1996, "Refractive index of air: new equations for the visible
     // and near infrared", Appl. Opt. 35, 1566, eq. (1):
     // (n − 1) = k1/(k0 − σ²) + k3/(k2 − σ²), σ in µm⁻¹.
     Material::isotropic(
-        "air",
+        "standard-air",
         Dispersion::Gas {
             a: 0.0,
             terms: vec![(0.057_921_05, 238.0185), (0.001_679_17, 57.362)],
@@ -173,6 +185,7 @@ pub fn builtin(name: &str) -> Option<Material> {
     Some(match key {
         "vacuum" => vacuum(),
         "air" => air(),
+        "standard-air" => standard_air(),
         "n-bk7" => n_bk7(),
         "fused-silica" => fused_silica(),
         "diamond" => diamond(),

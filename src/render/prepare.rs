@@ -105,7 +105,7 @@ pub fn lambdas(scene: &Scene, modes: &[OutputMode], mono_nm: f64) -> Vec<f64> {
     let mono = modes.iter().any(|m| !m.is_spectral());
     let hero = scene.settings.approx.spectral != Spectral::All;
     let mut lambdas: Vec<f64> = Vec::new();
-    if modes.iter().any(|m| m.is_spectral()) {
+    if modes.iter().any(|m| m.needs_colour()) {
         lambdas.extend(
             scene
                 .settings
@@ -131,7 +131,7 @@ pub fn options(scene: &Scene, modes: &[OutputMode], mono_nm: f64, progress: bool
     let same = |a: f64, b: f64| (a - b).abs() < 1e-9;
     // The colour set leads the list, a single-wavelength mode's
     // wavelength after it (`lambdas`).
-    let colour_lambdas = if modes.iter().any(|m| m.is_spectral()) {
+    let colour_lambdas = if modes.iter().any(|m| m.needs_colour()) {
         lambdas
             .iter()
             .take_while(|&&l| colour.iter().any(|&c| same(c, l)) && !(mono && same(l, mono_nm)))

@@ -290,3 +290,64 @@ fn extraordinary_wave_whose_energy_leaves_is_rejected() {
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(err.contains("energy flows away"), "{err}");
 }
+
+/// `air` in `spar interface` is the air renders put around every object
+/// (issue 16 item 5): n = 1 exactly, so air → N-BK7 at normal incidence
+/// reflects ((n − 1)/(n + 1))² of the light, n N-BK7's index there (with
+/// Ciddor's air, n = 1.00028, it would be 0.1 % less); standard air is
+/// `standard-air`.
+#[test]
+fn air_is_the_air_renders_use() {
+    let run = |from: &str| {
+        let out = spar(&[
+            "--from",
+            from,
+            "--to",
+            "n-bk7",
+            "--incident",
+            "0,0,-1",
+            "--mode",
+            "s",
+            "--json",
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        doc["waves"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|w| w["side"] == "reflected")
+            .map(|w| w["energy"].as_f64().unwrap())
+            .sum::<f64>()
+    };
+    let n = spar::material::catalog::n_bk7().indices(589.3).0;
+    let want = ((n - 1.0) / (n + 1.0)).powi(2);
+    let air = run("air");
+    assert!(
+        (air - want).abs() < 1e-12,
+        "air: R = {air}, n = 1 gives {want}"
+    );
+    assert_eq!(run("vacuum"), air);
+    let standard = run("standard-air");
+    assert!(
+        (standard - want).abs() > 1e-5,
+        "standard air (n − 1 = 2.8e-4) reflects less: {standard} vs {want}"
+    );
+    // The table names the index it used.
+    let out = spar(&[
+        "--from",
+        "air",
+        "--to",
+        "n-bk7",
+        "--incident",
+        "0,0,-1",
+        "--mode",
+        "s",
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("air (isotropic, n = 1.000000)"), "{text}");
+}

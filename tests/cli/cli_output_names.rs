@@ -20,7 +20,7 @@ corners = [[-2.0, -2.0, 0.0], [2.0, -2.0, 0.0], [2.0, 2.0, 0.0], [-2.0, 2.0, 0.0
 polarization = { linear = [0.0, 1.0, 0.0] }
 "#;
 
-const MODES: [&str; 9] = [
+const MODES: [&str; 18] = [
     "color",
     "mono",
     "dop",
@@ -28,15 +28,38 @@ const MODES: [&str; 9] = [
     "ellipticity-paper",
     "azimuth",
     "stokes",
+    "stokes-rgb",
     "polcam",
     "polcam-mosaic",
+    "aolp",
+    "dolp",
+    "polvis-stokes",
+    "polvis-dop",
+    "polvis-top",
+    "polvis-lin",
+    "polvis-cir",
+    "sheet",
 ];
+
+/// MODES is every camera mode spar has, so every mode's names are checked.
+#[test]
+fn the_modes_checked_are_every_mode() {
+    use clap::ValueEnum;
+    let mut all: Vec<&str> = spar::render::output::OutputMode::value_variants()
+        .iter()
+        .map(|m| m.name())
+        .collect();
+    let mut checked = MODES.to_vec();
+    all.sort_unstable();
+    checked.sort_unstable();
+    assert_eq!(checked, all);
+}
 
 /// The extensions a mode's file may have (docs/outputs.md), lower case;
 /// the first is the one a name without extension gets.
 fn fitting(mode: &str) -> &'static [&'static str] {
     match mode {
-        "stokes" => &["exr"],
+        "stokes" | "stokes-rgb" => &["exr"],
         "polcam" | "polcam-mosaic" => &["png", "exr", "tif", "tiff", "jpg", "jpeg"],
         _ => &["png", "tif", "tiff", "jpg", "jpeg"],
     }
@@ -99,14 +122,29 @@ fn every_mode_and_extension_is_written_or_refused_with_the_name_to_use() {
                         .iter()
                         .map(|a| format!("x-{a}.{ext}"))
                         .collect()
+                } else if mode == "polvis-stokes" {
+                    ["s1", "s2", "s3"]
+                        .iter()
+                        .map(|a| format!("x-{a}.{ext}"))
+                        .collect()
                 } else {
                     vec![format!("x.{ext}")]
                 };
                 assert_eq!(written(d), expected, "{what}");
                 // Float EXR where the name asks for it, display images
                 // otherwise: readable, the size of the render.
+                // The false-colour maps have their legend below (at least
+                // spar::cli::legend::MIN_WIDTH wide).
                 let img = spar::image::read(&d.join(&expected[0])).unwrap();
-                assert_eq!((img.width(), img.height()), (4, 3), "{what}");
+                use spar::cli::legend::{GAP, HEIGHT, MIN_WIDTH, TITLE_HEIGHT};
+                let size = if mode == "aolp" || mode == "dolp" || mode.starts_with("polvis") {
+                    (MIN_WIDTH, 3 + HEIGHT)
+                } else if mode == "sheet" {
+                    (4 + 2 * GAP + 2 * MIN_WIDTH, TITLE_HEIGHT + 3 + HEIGHT)
+                } else {
+                    (4, 3)
+                };
+                assert_eq!((img.width(), img.height()), size, "{what}");
             } else {
                 assert_eq!(code, 2, "{what}");
                 if pure_refusal {
@@ -214,7 +252,10 @@ fn wavelength_is_used_by_stokes_and_refused_where_no_mode_uses_it() {
         ],
     );
     let one = spar::image::read(&d.join("one.exr")).unwrap();
-    assert_eq!(one.channels(), ["S0", "S1", "S2", "S3"]);
+    assert_eq!(
+        one.channels(),
+        ["S0.600nm", "S1.600nm", "S2.600nm", "S3.600nm"]
+    );
     assert_eq!(one.metadata()["spar:wavelengths_nm"], "600");
     assert!(
         one.metadata()["spar:settings"].contains(" lambdas=[600.0] "),
@@ -238,13 +279,13 @@ fn wavelength_is_used_by_stokes_and_refused_where_no_mode_uses_it() {
     let three = spar::image::read(&d.join("three.exr")).unwrap();
     assert_eq!(three.metadata()["spar:wavelengths_nm"], "500,600,700");
     for c in 0..4 {
-        let a = one.channel(&format!("S{c}")).unwrap();
-        let b = three.channel(&format!("S{c}_600nm")).unwrap();
+        let a = one.channel(&format!("S{c}.600nm")).unwrap();
+        let b = three.channel(&format!("S{c}.600nm")).unwrap();
         for (x, y) in a.iter().zip(&b) {
             assert!((x - y).abs() <= 1e-6 * x.abs().max(1.0), "S{c}: {x} vs {y}");
         }
     }
-    let s0 = one.channel("S0").unwrap();
+    let s0 = one.channel("S0.600nm").unwrap();
     let d65 = spar::spectrum::cie::d65(600.0) as f32;
     assert!(
         s0.iter().all(|&v| (v - 0.5 * d65).abs() < 1e-3 * d65),
@@ -267,7 +308,10 @@ fn wavelength_is_used_by_stokes_and_refused_where_no_mode_uses_it() {
         ],
     );
     let both = spar::image::read(&d.join("both-stokes.exr")).unwrap();
-    assert_eq!(both.channels(), ["S0", "S1", "S2", "S3"]);
+    assert_eq!(
+        both.channels(),
+        ["S0.600nm", "S1.600nm", "S2.600nm", "S3.600nm"]
+    );
     assert!(d.join("both-color.png").exists());
 
     // spar develop: --wavelength picks the Stokes EXR's wavelength from
@@ -301,7 +345,10 @@ fn wavelength_is_used_by_stokes_and_refused_where_no_mode_uses_it() {
     );
     let dev = spar::image::read(&d.join("dev.exr")).unwrap();
     assert_eq!(dev.metadata()["spar:wavelengths_nm"], "580");
-    assert_eq!(dev.channels(), ["S0", "S1", "S2", "S3"]);
+    assert_eq!(
+        dev.channels(),
+        ["S0.580nm", "S1.580nm", "S2.580nm", "S3.580nm"]
+    );
     for (args, needle) in [
         (
             vec!["--mode", "color", "--wavelength", "580", "-o", "c.png"],
@@ -354,5 +401,63 @@ fn plan_names_the_image_by_the_same_rules() {
         let (code, _, err) = plan(&args);
         assert_eq!(code, 2, "{args:?}: {err}");
         assert!(err.contains(needle), "{args:?}: {err}");
+    }
+}
+
+/// compare, contact-sheet and speed-error use --wavelength or refuse it
+/// (issue 16 item 5): with color alone it sets nothing and is refused
+/// (exit 2, nothing written) instead of ignored; with a mode that uses it,
+/// it is taken.
+#[test]
+fn commands_beside_render_use_or_refuse_wavelength() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("s.toml"), SCENE).unwrap();
+    for (cmd, out) in [
+        ("compare", "c.png"),
+        ("contact-sheet", "k.png"),
+        ("speed-error", "se"),
+    ] {
+        let args = [
+            cmd,
+            "s.toml",
+            "--mode",
+            "color",
+            "--wavelength",
+            "600",
+            "-o",
+            out,
+        ];
+        let (code, _, err) = code_out_err(&spar(d, &args));
+        assert_eq!(code, 2, "{cmd}: {err}");
+        if cmd == "compare" && !cfg!(feature = "native") {
+            // The pure build has one backend: compare is refused first.
+            assert!(err.contains("native"), "{cmd}: {err}");
+        } else {
+            assert!(
+                err.contains("--wavelength 600") && err.contains("no mode asked for uses it"),
+                "{cmd}: {err}"
+            );
+        }
+        assert!(written(d).is_empty(), "{cmd}: {:?}", written(d));
+    }
+    // A mode that uses it takes it (compare renders with both backends;
+    // the pure build has one and refuses compare first).
+    if cfg!(feature = "native") {
+        let (code, out, err) = code_out_err(&spar(
+            d,
+            &[
+                "compare",
+                "s.toml",
+                "--mode",
+                "mono",
+                "--wavelength",
+                "600",
+                "-o",
+                "m.png",
+            ],
+        ));
+        assert_eq!(code, 0, "{out}{err}");
+        assert!(out.contains("1 wavelength(s)"), "{out}");
     }
 }

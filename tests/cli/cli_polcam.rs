@@ -40,10 +40,14 @@ fn stokes_come_back_from_the_four_images_and_the_mosaic_is_theirs() {
         &[&["render", scene][..], &small, &modes, &["-o", "cam.exr"]].concat(),
     );
     let stokes = read(d, "cam-stokes.exr");
-    assert_eq!(stokes.channels(), ["S0", "S1", "S2", "S3"]);
+    // One wavelength: the JCGT layout's channels, no RGB preview.
+    assert_eq!(
+        stokes.channels(),
+        ["S0.600nm", "S1.600nm", "S2.600nm", "S3.600nm"]
+    );
     assert_eq!(stokes.metadata()["spar:wavelengths_nm"], "600");
     let s: Vec<Vec<f32>> = (0..3)
-        .map(|c| stokes.channel(&format!("S{c}")).unwrap())
+        .map(|c| stokes.channel(&format!("S{c}.600nm")).unwrap())
         .collect();
     let i: Vec<Vec<f32>> = ANGLES
         .iter()

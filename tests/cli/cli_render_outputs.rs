@@ -54,7 +54,7 @@ fn stokes_exr_reads_back_by_name_with_metadata_and_physical_values() {
         Some("stokes")
     );
     for l in [450.0f64, 550.0, 650.0] {
-        let get = |c: u32| exr.channel(&format!("S{c}_{l:.0}nm")).unwrap();
+        let get = |c: u32| exr.channel(&format!("S{c}.{l:.0}nm")).unwrap();
         let (s0, s1, s2, s3) = (get(0), get(1), get(2), get(3));
         // A polarizer along image up: half of D65, fully polarized, S1 = −S0
         // (vertical), no S2 or S3 on the optical axis; off axis the frame

@@ -81,7 +81,11 @@ fn air_ciddor_1996_against_peck_and_reeder_1972() {
     // 1e-8 (8060.51 + 2480990/(132.274 − σ²) + 17455.7/(39.32957 − σ²)),
     // which differs by its older CO₂ content (300 ppm, not 450): about
     // 1e-8.
-    let air = material::catalog::air();
+    let air = material::catalog::standard_air();
+    assert_eq!(
+        material::catalog::builtin("ciddor-air").unwrap().name(),
+        "standard-air"
+    );
     for lambda in [400.0, 500.0, 589.3, 700.0] {
         let sigma2 = 1.0 / (lambda * 1e-3_f64).powi(2);
         let peck = 1.0
@@ -99,6 +103,22 @@ fn air_ciddor_1996_against_peck_and_reeder_1972() {
         5e-8,
         "n − 1 at 589.3 nm",
     );
+}
+
+/// `air` is the medium renders put around every object (issue 16 item 5):
+/// n = 1 exactly, render::integrator::AMBIENT, at every wavelength, in
+/// scene files and `spar interface` alike.
+#[test]
+fn air_is_the_renders_ambient_medium() {
+    let air = material::catalog::builtin("air").unwrap();
+    for lambda in [380.0, 589.3, 780.0] {
+        assert_eq!(
+            air.medium(lambda, glam::DVec3::Z),
+            spar::render::integrator::AMBIENT,
+            "air at {lambda} nm"
+        );
+    }
+    assert!(!air.is_dispersive());
 }
 
 #[test]

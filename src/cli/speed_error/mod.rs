@@ -11,7 +11,7 @@ pub mod results;
 pub mod sweep;
 
 use super::args::{AccelArgs, SceneOverrides};
-use super::common::{check_wavelength, load_scene};
+use super::common::{load_scene, mono_wavelength};
 use super::error::CliError;
 use crate::render::output::OutputMode;
 use crate::scene::Scene;
@@ -58,9 +58,10 @@ pub struct SpeedErrorArgs {
     /// (no noise estimate).
     #[arg(long)]
     pub paired: bool,
-    /// Wavelength of the single-wavelength modes, nm.
-    #[arg(long, default_value_t = 580.0)]
-    pub wavelength: f64,
+    /// Wavelength of the single-wavelength modes, nm; default 580.
+    /// Refused when no mode asked for uses it (color alone).
+    #[arg(long)]
+    pub wavelength: Option<f64>,
     #[command(flatten)]
     pub accel: AccelArgs,
     #[command(flatten)]
@@ -83,12 +84,13 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
         return replot(args);
     }
     let modes = display_modes(&args.mode)?;
+    let mono_nm = mono_wavelength(args.wavelength, &modes)?;
     let scene = checked_scene(args)?;
     let sweep = Sweep::new(&scene, &args.configs, &args.reference_config, args.paired)?;
     create_dir(&args.output)?;
     let setup = Setup {
         modes,
-        mono_nm: args.wavelength,
+        mono_nm,
         threads: args.threads.unwrap_or(0),
         accel: args.accel.kind(None)?,
         quiet: args.quiet,
@@ -125,24 +127,20 @@ pub fn run(args: &SpeedErrorArgs) -> Result<(), CliError> {
 fn display_modes(asked: &[OutputMode]) -> Result<Vec<OutputMode>, CliError> {
     let mut modes = asked.to_vec();
     modes.dedup();
-    if modes.is_empty()
-        || modes
-            .iter()
-            .any(|m| *m == OutputMode::Stokes || m.is_polcam())
-    {
+    if modes.is_empty() || modes.iter().any(|m| m.is_stokes() || m.is_polcam()) {
         return Err(CliError::input(
             "--mode: give display modes (color, mono, dop, ellipticity, ellipticity-paper, \
-             azimuth); stokes, polcam and polcam-mosaic have no display error",
+             azimuth, aolp, dolp, polvis-dop, polvis-top, polvis-lin, polvis-cir); stokes, \
+             stokes-rgb, polcam, polcam-mosaic, polvis-stokes and sheet have no display error",
         ));
     }
     Ok(modes)
 }
 
-/// The scene with the overrides applied, and `--wavelength` checked.
+/// The scene with the overrides applied.
 fn checked_scene(args: &SpeedErrorArgs) -> Result<Scene, CliError> {
     let mut scene = load_scene(args.scene.as_deref())?;
     args.overrides.apply(&mut scene)?;
-    check_wavelength(args.wavelength)?;
     Ok(scene)
 }
 
