@@ -58,6 +58,30 @@ struct Bundle {
     pub drift: f64,
 }
 
+impl Bundle {
+    /// The exact query of feeder `f` of this bundle's node, from `origin`
+    /// into `region`.
+    fn query(
+        &self,
+        origin: DVec3,
+        f: &Feeder,
+        region: Region,
+        throughput: f64,
+        path: u64,
+    ) -> Query {
+        Query {
+            origin,
+            dir: -f.wave.ray,
+            region,
+            kind: f.wave.kind,
+            depth: self.depth + 1,
+            throughput,
+            path,
+            drift: self.drift,
+        }
+    }
+}
+
 /// The feeder of `kind` on `side` in a node's list.
 fn find(list: &[Feeder], side: Side, kind: WaveKind) -> Option<&Feeder> {
     list.iter()
@@ -339,21 +363,10 @@ impl Tracer<'_> {
                     continue;
                 }
                 let (region, offset) = feeder_side(f.wave.side, region, node.other, node.normal);
-                let q = Query {
-                    origin: node.ray.at(node.hit.t) + self.epsilon(node.hit.geom) * offset,
-                    dir: -f.wave.ray,
-                    region,
-                    kind: f.wave.kind,
-                    depth: b.depth + 1,
-                    throughput,
-                    path: b.path.wrapping_mul(4).wrapping_add(2 + i as u64),
-                    drift: b.drift,
-                };
-                let (air_out, deeper) = scratch.split_at_mut(n);
-                self.radiance(&q, &f.wave.basis, batch, key, air_out, deeper, stats);
-                for (o, j) in out.iter_mut().zip(air_out.iter()) {
-                    *o += on_mode(a, j.transform(&f.block).jxx());
-                }
+                let origin = node.ray.at(node.hit.t) + self.epsilon(node.hit.geom) * offset;
+                let path = b.path.wrapping_mul(4).wrapping_add(2 + i as u64);
+                let q = b.query(origin, f, region, throughput, path);
+                self.add_exact(&q, f, a, batch, key, out, scratch, stats);
             }
         }
     }
@@ -416,20 +429,30 @@ impl Tracer<'_> {
                 stats.pruned += 1;
                 continue;
             }
-            let q = Query {
-                origin,
-                dir: -f.wave.ray,
-                region: Region::Inside(b.object),
-                kind: f.wave.kind,
-                depth: b.depth + 1,
-                throughput,
-                path: b.path.wrapping_mul(8).wrapping_add(i as u64),
-                drift: b.drift,
-            };
-            self.radiance(&q, &f.wave.basis, batch, key, child_out, deeper, stats);
-            for (o, j) in out.iter_mut().zip(child_out.iter()) {
-                *o += on_mode(a, j.transform(&f.block).jxx());
-            }
+            let path = b.path.wrapping_mul(8).wrapping_add(i as u64);
+            let q = b.query(origin, f, Region::Inside(b.object), throughput, path);
+            self.add_exact(&q, f, a, batch, key, out, scratch, stats);
+        }
+    }
+
+    /// Adds to mode `a` of `out` the light feeder `f` brings along the
+    /// exact query `q`.
+    #[allow(clippy::too_many_arguments)]
+    fn add_exact(
+        &self,
+        q: &Query,
+        f: &Feeder,
+        a: usize,
+        batch: &[WavelengthMedia],
+        key: &SampleKey,
+        out: &mut [Coherence],
+        scratch: &mut [Coherence],
+        stats: &mut Stats,
+    ) {
+        let (child_out, deeper) = scratch.split_at_mut(out.len());
+        self.radiance(q, &f.wave.basis, batch, key, child_out, deeper, stats);
+        for (o, j) in out.iter_mut().zip(child_out.iter()) {
+            *o += on_mode(a, j.transform(&f.block).jxx());
         }
     }
 
