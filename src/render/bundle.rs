@@ -8,14 +8,20 @@
 //! member of their new mode. A crystal's tree then grows as glass's does,
 //! one internal child per node.
 //!
-//! The approximation is the geometry of the mode-changing waves (the
-//! member's ray instead of their own, which differs from it by the angle
-//! between the o and e rays); it is bounded by splitting: where the
-//! members reach different facets, or their hit points are more than `TOL`
-//! pixel footprints apart ([`Tracer::footprint`]), each continues as an
-//! exact query of the incoherent tree (and may bundle again at its next
-//! node). Energy is carried exactly: every Jones block of the exact tree
-//! is applied, only rays are shared.
+//! The approximation is the geometry of the mode-changing waves: a riding
+//! wave follows its member's ray instead of its own, which turns from it
+//! by an angle of the order of the birefringence, and that angle persists
+//! on every later segment. Light off its exact direction by θ lands at
+//! most θ / (the pixel's angle) pixels from where it should, so a wave may
+//! ride only while the angles summed along its path stay within `TOL`
+//! pixel angles ([`Tracer::pixel_angle`]) and the members landed within
+//! `TOL` pixel footprints of each other ([`Tracer::footprint`]: a riding
+//! wave starts at the other member's point); otherwise each member's
+//! reflected waves are traced on their own rays. Members are exact rays;
+//! where they reach different facets each continues as an exact query of
+//! the incoherent tree (and may bundle again at its next node). Energy is
+//! carried exactly: every Jones block of the exact tree is applied, only
+//! rays are shared.
 //!
 //! Sums are those of the incoherent model (`coherence = "incoherent"`):
 //! the bundle's coherence matrix in its (o, e) mode basis is kept diagonal,
