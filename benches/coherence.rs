@@ -19,21 +19,8 @@ use spar::scene::Scene;
 use std::path::Path;
 use std::time::Instant;
 
-/// CPU seconds (user + system) this process has used, from
-/// /proc/self/stat (fields 14 and 15, in clock ticks of 1/100 s).
-fn cpu_seconds() -> f64 {
-    let stat = std::fs::read_to_string("/proc/self/stat").expect("/proc/self/stat");
-    // The command name (field 2) is in parentheses and may hold spaces.
-    let rest = &stat[stat.rfind(')').expect("a stat line") + 2..];
-    let fields: Vec<&str> = rest.split_whitespace().collect();
-    let ticks = |i: usize| fields[i - 3].parse::<f64>().expect("a tick count");
-    (ticks(14) + ticks(15)) / 100.0
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
+mod support;
+use support::{cpu_seconds, median};
 
 fn main() {
     let size: u32 = std::env::var("SPAR_BENCH_SIZE")
