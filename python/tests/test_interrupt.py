@@ -42,28 +42,36 @@ def test_sigint_stops_a_render_and_the_interpreter_goes_on(repo):
 def test_the_gil_is_released_while_rendering(repo):
     """Another Python thread runs while a render runs, and may change the
     scene being rendered (the render has its own copy)."""
-    scene = spar.load_scene(os.path.join(repo, SCENE))
-    ticks = []
-    stop = threading.Event()
+    # The render must last long enough to tell, on any machine: the image
+    # doubles in size until one lasts half a second (CI's machine rendered
+    # 32x32 in 0.35 s).
+    side = 32
+    while True:
+        scene = spar.load_scene(os.path.join(repo, SCENE))
+        ticks = []
+        stop = threading.Event()
 
-    def tick():
-        while not stop.is_set():
-            ticks.append(time.monotonic())
-            if len(ticks) == 20:
-                scene.seed = 99
-            time.sleep(0.01)
+        def tick():
+            while not stop.is_set():
+                ticks.append(time.monotonic())
+                if len(ticks) == 20:
+                    scene.seed = 99
+                time.sleep(0.01)
 
-    t = threading.Thread(target=tick)
-    start = time.monotonic()
-    t.start()
-    r = scene.render(mode="stokes", resolution=(32, 32), samples=1)
-    end = time.monotonic()
-    stop.set()
-    t.join()
+        t = threading.Thread(target=tick)
+        start = time.monotonic()
+        t.start()
+        r = scene.render(mode="stokes", resolution=(side, side), samples=1)
+        end = time.monotonic()
+        stop.set()
+        t.join()
+        if end - start > 0.5 or side >= 512:
+            break
+        side *= 2
+    assert end - start > 0.5, f"a {side}x{side} render was too short to tell"
     during = [x for x in ticks if start + 0.1 < x < end - 0.1]
-    # At 100 ticks a second, a render of about 1 s leaves dozens; a held
-    # GIL would leave none.
-    assert end - start > 0.4, "the render was too short to tell"
+    # At 100 ticks a second, a render of half a second or more leaves
+    # dozens; a held GIL would leave none.
     assert len(during) > 10, (len(during), end - start)
     assert scene.seed == 99
     assert "seed=0 " in r.metadata["spar:settings"]
