@@ -98,6 +98,17 @@ fn describe(name: &str, m: &Medium) -> String {
             "{name} (uniaxial, n_o = {n_o:.6}, n_e = {n_e:.6}, axis = ({:.4}, {:.4}, {:.4}))",
             axis.x, axis.y, axis.z
         ),
+        Medium::Biaxial { n, x, z } => {
+            let two_v = crate::optics::anisotropic::half_optic_angle(*n)
+                .map_or("undefined (isotropic)".to_string(), |v| {
+                    format!("{:.3}°", 2.0 * v.to_degrees())
+                });
+            format!(
+                "{name} (biaxial, n_x = {:.6}, n_y = {:.6}, n_z = {:.6}, \
+                 crystal x = ({:.4}, {:.4}, {:.4}), z = ({:.4}, {:.4}, {:.4}), 2V = {two_v})",
+                n[0], n[1], n[2], x.x, x.y, x.z, z.x, z.y, z.z
+            )
+        }
     }
 }
 
@@ -106,6 +117,7 @@ fn check_indices(name: &str, m: &Medium, lambda: f64) -> Result<(), CliError> {
     let good = match *m {
         Medium::Isotropic { n } => ok(n),
         Medium::Uniaxial { n_o, n_e, .. } => ok(n_o) && ok(n_e),
+        Medium::Biaxial { n, .. } => n.into_iter().all(ok),
     };
     if good {
         Ok(())

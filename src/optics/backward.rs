@@ -70,8 +70,8 @@
 
 use super::fresnel::{fresnel_from_normals, normal_component};
 use super::interface::{
-    energy_factor, tangential, tangential_real, with_system, Column, Interface, InterfaceError,
-    Solve, WithSystem,
+    energy_factor, tangential, tangential_real, with_full_system, with_system, Column, Interface,
+    InterfaceError, Solve, WithSystem,
 };
 use super::jones::Jones;
 use super::medium::Medium;
@@ -208,6 +208,15 @@ impl Interface {
             return Err(InterfaceError::NotOutgoing);
         }
         let k = k_from_ray(medium, kind, ray);
+        if self.has_biaxial() {
+            if !k.is_finite() {
+                return Err(InterfaceError::BadVector("tangential wave vector"));
+            }
+            let mut result = Feeders::new(&self.frame(k));
+            let frame = result.frame;
+            self.general_any(&frame, side, kind, Some(k), &mut result)?;
+            return Ok(result);
+        }
         self.feeders_tangential(side, kind, k)
     }
 
@@ -259,6 +268,9 @@ impl Interface {
         kind: WaveKind,
         result: &mut Feeders,
     ) -> Result<(), InterfaceError> {
+        if self.has_biaxial() {
+            return self.general_any(frame, side, kind, None, result);
+        }
         match (*self.medium(side), *self.medium(side.opposite())) {
             (Medium::Isotropic { n: n_w }, Medium::Isotropic { n: n_x }) => {
                 isotropic_pair(frame, side, n_w, n_x, result);
@@ -280,8 +292,8 @@ impl Interface {
         // Target rows: w's modes among the outgoing waves [+₀, +₁, −₀, −₁].
         let base = 2 * side.index();
         let (rows, first) = match kind {
-            WaveKind::Isotropic | WaveKind::Ordinary => (kind.mode_count(), base),
-            WaveKind::Extraordinary => (1, base + 1),
+            WaveKind::Isotropic | WaveKind::Ordinary | WaveKind::Fast => (kind.mode_count(), base),
+            WaveKind::Extraordinary | WaveKind::Slow => (1, base + 1),
         };
         // Columns of the boundary system from the crystal sides' outgoing
         // waves (an isotropic side facing a crystal needs none: its modes
@@ -300,6 +312,8 @@ impl Interface {
                         target = [Some(s), Some(p)];
                     }
                 }
+                // Biaxial media take `general_any` (see `fill`).
+                Medium::Biaxial { .. } => {}
                 Medium::Uniaxial { .. } => {
                     for (i, mode) in [Mode::O, Mode::E].into_iter().enumerate() {
                         let j = 2 * si + i;
@@ -364,6 +378,141 @@ impl Interface {
             result,
         };
         with_system(self, &sheets, &cols, feed).ok_or(InterfaceError::Singular)
+    }
+}
+
+impl Interface {
+    /// The backward query when a side is biaxial: every wave from
+    /// [`Eigenwave`] (Booker's quartic on the biaxial side, see
+    /// [`super::anisotropic`]), the full 4×4 system. The target is the
+    /// outgoing wave of `kind` on `side`; when both outgoing waves of a
+    /// biaxial side carry that name (a line `t + q N` that cuts one sheet
+    /// twice, near an optic axis), the one nearest `hint` (the wave vector
+    /// found from the ray direction).
+    fn general_any(
+        &self,
+        frame: &TangentFrame,
+        side: Side,
+        kind: WaveKind,
+        hint: Option<DVec3>,
+        result: &mut Feeders,
+    ) -> Result<(), InterfaceError> {
+        let out = self.outgoing_general(frame);
+        let base = 2 * side.index();
+        let (first, rows) = if kind == WaveKind::Isotropic {
+            (base, 2)
+        } else {
+            let mode = kind.first_mode();
+            let named = [base, base + 1].map(|j| out[j].mode == mode);
+            let pick = match (named, hint) {
+                ([true, false], _) => base,
+                ([false, true], _) => base + 1,
+                // Both or neither named so: the one whose wave vector the
+                // ray gave, else the slot of the name.
+                (_, Some(k)) => {
+                    let d = |j: usize| (out[j].k.re - k).length_squared();
+                    if d(base + 1) < d(base) {
+                        base + 1
+                    } else {
+                        base
+                    }
+                }
+                (_, None) => base + super::interface::mode_index(mode),
+            };
+            (pick, 1)
+        };
+        let w0 = &out[first];
+        let w1 = (rows == 2).then(|| &out[first + 1]);
+        result.target = basis_of(w0, w1, kind);
+        if w0.evanescent || w0.flux == 0.0 {
+            // Grazing or evanescent: nothing feeds it.
+            return Ok(());
+        }
+        let cols = [0, 1, 2, 3].map(|j| Column::of(frame, &out[j]));
+        let w_flux = [w0.flux, w1.map_or(0.0, |w| w.flux)];
+        let feed = FeedAny {
+            iface: self,
+            frame,
+            side,
+            rows,
+            first,
+            w_flux,
+            result,
+        };
+        with_full_system(&cols, feed).ok_or(InterfaceError::Singular)
+    }
+}
+
+/// The candidates of [`Interface::general_any`]: every propagating
+/// incident wave with the target's `t`, and its block.
+struct FeedAny<'a> {
+    iface: &'a Interface,
+    frame: &'a TangentFrame,
+    side: Side,
+    rows: usize,
+    first: usize,
+    w_flux: [f64; 2],
+    result: &'a mut Feeders,
+}
+
+impl WithSystem for FeedAny<'_> {
+    type Output = ();
+
+    fn with<S: Solve>(self, system: &S) {
+        let FeedAny {
+            iface,
+            frame,
+            side,
+            rows,
+            first,
+            w_flux,
+            result,
+        } = self;
+        for cand_side in [side, side.opposite()] {
+            let medium = iface.medium(cand_side);
+            let sigma = cand_side.sign();
+            let incoming: [Option<Eigenwave>; 2] = if medium.is_biaxial() {
+                super::anisotropic::waves(medium, frame, cand_side)
+                    .incoming
+                    .map(Some)
+            } else {
+                Mode::pair_of(medium)
+                    .map(|mode| Eigenwave::new(medium, frame, cand_side, Travel::Incoming, mode))
+            };
+            // ã into each of the target's modes for one incident wave.
+            let column = |w: &Eigenwave| -> [Complex64; 2] {
+                let v = tangential_real(frame, w.e.re, w.h.re);
+                let a = system.solve_real_rows(v.map(|x| x * -sigma), first, rows);
+                [0, 1].map(|r| a[r] * energy_factor(w_flux[r], w.flux))
+            };
+            let live = |w: &Option<Eigenwave>| w.filter(|w| !w.evanescent && w.flux != 0.0);
+            if medium.is_isotropic() {
+                let (Some(s), Some(p)) = (live(&incoming[0]), live(&incoming[1])) else {
+                    continue;
+                };
+                let (cs, cp) = (column(&s), column(&p));
+                *result.next() = Feeder {
+                    wave: basis_of(&s, Some(&p), WaveKind::Isotropic),
+                    block: Jones {
+                        rows,
+                        cols: 2,
+                        m: [[cs[0], cp[0]], [cs[1], cp[1]]],
+                    },
+                };
+            } else {
+                for w in incoming.iter().filter_map(live) {
+                    let c = column(&w);
+                    *result.next() = Feeder {
+                        wave: basis_of(&w, None, w.mode.kind()),
+                        block: Jones {
+                            rows,
+                            cols: 1,
+                            m: [[c[0], ZERO], [c[1], ZERO]],
+                        },
+                    };
+                }
+            }
+        }
     }
 }
 
@@ -449,6 +598,8 @@ impl WithSystem for Feed<'_> {
                         block: Jones { rows, cols: 2, m },
                     };
                 }
+                // Biaxial media take `general_any` (see `fill`).
+                Medium::Biaxial { .. } => {}
                 Medium::Uniaxial { .. } => {
                     for (i, (mode, ck)) in [
                         (Mode::O, WaveKind::Ordinary),

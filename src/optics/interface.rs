@@ -67,8 +67,15 @@ impl fmt::Display for InterfaceError {
                     Side::Minus => "far-side (−)",
                 };
                 let has = match mode {
-                    Mode::S | Mode::P => "a uniaxial crystal has modes o and e",
-                    Mode::O | Mode::E => "an isotropic medium has modes s and p",
+                    Mode::S | Mode::P => {
+                        "a uniaxial crystal has modes o and e, a biaxial one fast and slow"
+                    }
+                    Mode::O | Mode::E => {
+                        "an isotropic medium has modes s and p, a biaxial crystal fast and slow"
+                    }
+                    Mode::Fast | Mode::Slow => {
+                        "an isotropic medium has modes s and p, a uniaxial crystal o and e"
+                    }
                 };
                 write!(
                     f,
@@ -133,6 +140,18 @@ fn check_medium(m: Medium) -> Result<Medium, InterfaceError> {
                 axis: check_vector(axis, "optic axis")?,
             })
         }
+        Medium::Biaxial { n, x, z } => {
+            for n in n {
+                if !good(n) {
+                    return Err(InterfaceError::BadIndex(n));
+                }
+            }
+            check_vector(z, "crystal z axis")?;
+            check_vector(x, "crystal x axis")?;
+            let (z, x) = super::medium::orthonormal_axes(z, x)
+                .ok_or(InterfaceError::BadVector("crystal x axis (parallel to z)"))?;
+            Ok(Medium::Biaxial { n, x, z })
+        }
     }
 }
 
@@ -157,6 +176,13 @@ impl Interface {
     #[inline]
     pub fn medium(&self, side: Side) -> &Medium {
         &self.media[side.index()]
+    }
+
+    /// True when a side is a biaxial crystal (its waves come from Booker's
+    /// quartic, [`super::anisotropic`]).
+    #[inline]
+    pub fn has_biaxial(&self) -> bool {
+        self.media[0].is_biaxial() || self.media[1].is_biaxial()
     }
 
     /// True when both media are isotropic (closed forms apply).
@@ -226,7 +252,28 @@ impl Interface {
     /// `(o, e)`.
     #[inline]
     pub fn outgoing_waves(&self, frame: &TangentFrame) -> [Eigenwave; 4] {
+        if self.has_biaxial() {
+            return self.outgoing_general(frame);
+        }
         self.outgoing_on(frame, &self.sheets(frame))
+    }
+
+    /// The outgoing waves when a side is biaxial: that side's from Booker's
+    /// quartic, the other side's from its sheets.
+    pub(crate) fn outgoing_general(&self, frame: &TangentFrame) -> [Eigenwave; 4] {
+        let pair = |side: Side| -> [Eigenwave; 2] {
+            let m = self.medium(side);
+            if m.is_biaxial() {
+                return super::anisotropic::waves(m, frame, side).outgoing;
+            }
+            Mode::pair_of(m).map(|mode| {
+                let sheet = Sheet::new(m, mode.kind(), frame);
+                Eigenwave::on_sheet(m, frame, &sheet, side, Travel::Outgoing, mode, side.sign())
+            })
+        };
+        let [p0, p1] = pair(Side::Plus);
+        let [m0, m1] = pair(Side::Minus);
+        [p0, p1, m0, m1]
     }
 
     /// The sheets `[side][mode]` at this frame (an isotropic medium's s and
@@ -330,6 +377,9 @@ impl Interface {
         if !mode.exists_in(medium) {
             return Err(InterfaceError::ModeNotInMedium { mode, side });
         }
+        if self.has_biaxial() {
+            return self.solver_general(side, mode, frame);
+        }
         // The incident wave lies on the sheet its outgoing namesake uses.
         let sheets = self.sheets(frame);
         let sheet = &sheets[side.index()][mode_index(mode)];
@@ -359,6 +409,24 @@ impl Interface {
         };
         let a =
             with_system(self, &sheets, &cols, SolveOnce(rhs)).ok_or(InterfaceError::Singular)?;
+        Ok(Scattering::assemble(incident, out, a))
+    }
+
+    /// [`Interface::solver_in`] when a side is biaxial: the same 4×4
+    /// boundary system on the general eigenwaves ([`super::anisotropic`]).
+    fn solver_general(
+        &self,
+        side: Side,
+        mode: Mode,
+        frame: &TangentFrame,
+    ) -> Result<Scattering, InterfaceError> {
+        let incident = Eigenwave::new(self.medium(side), frame, side, Travel::Incoming, mode)
+            .ok_or(InterfaceError::NoSuchWave)?;
+        let out = self.outgoing_general(frame);
+        let cols = [0, 1, 2, 3].map(|j| Column::of(frame, &out[j]));
+        let sgn = -incident.side.sign();
+        let rhs = Column::Complex(tangential(frame, incident.e, incident.h).map(|x| x * sgn));
+        let a = with_full_system(&cols, SolveOnce(rhs)).ok_or(InterfaceError::Singular)?;
         Ok(Scattering::assemble(incident, out, a))
     }
 
@@ -413,8 +481,8 @@ impl Interface {
 #[inline]
 pub(crate) fn mode_index(mode: Mode) -> usize {
     match mode {
-        Mode::S | Mode::O => 0,
-        Mode::P | Mode::E => 1,
+        Mode::S | Mode::O | Mode::Fast => 0,
+        Mode::P | Mode::E | Mode::Slow => 1,
     }
 }
 
@@ -432,7 +500,7 @@ pub(crate) enum Column {
 impl Column {
     /// The column of an [`Eigenwave`].
     #[inline]
-    fn of(frame: &TangentFrame, w: &Eigenwave) -> Column {
+    pub(crate) fn of(frame: &TangentFrame, w: &Eigenwave) -> Column {
         if w.evanescent {
             Column::Complex(tangential(frame, w.e, w.h))
         } else {
@@ -510,31 +578,7 @@ pub(crate) fn with_system<W: WithSystem>(
         _ => None,
     };
     let Some((iso_side, n)) = iso else {
-        let mut lu = Lu4::zero();
-        let mut real = true;
-        for (j, col) in cols.iter().enumerate() {
-            let sgn = if j < 2 { 1.0 } else { -1.0 };
-            match col {
-                Column::Real(v) => {
-                    for (row, x) in v.iter().enumerate() {
-                        lu.set(row, j, x * sgn, 0.0);
-                    }
-                }
-                Column::Complex(v) => {
-                    for (row, x) in v.iter().enumerate() {
-                        lu.set(row, j, x.re * sgn, x.im * sgn);
-                    }
-                    real = false;
-                }
-                Column::Unused => return None,
-            }
-        }
-        return if real {
-            lu.factor_real_in_place()
-                .then(|| user.with(&Full::<true>(&lu)))
-        } else {
-            lu.factor_in_place().then(|| user.with(&Full::<false>(&lu)))
-        };
+        return with_full_system(cols, user);
     };
     let c = 2 * iso_side.opposite().index();
     // The isotropic side's outgoing normal component (both modes).
@@ -552,6 +596,38 @@ pub(crate) fn with_system<W: WithSystem>(
             let system = Reduced::new(iso_side, n, q, o, e);
             system.regular().then(|| user.with(&system))
         }
+    }
+}
+
+/// Factor the full 4×4 boundary system of the outgoing waves' columns
+/// (every column computed) and hand it to `user`; `None` when it is
+/// singular.
+#[inline]
+pub(crate) fn with_full_system<W: WithSystem>(cols: &[Column; 4], user: W) -> Option<W::Output> {
+    let mut lu = Lu4::zero();
+    let mut real = true;
+    for (j, col) in cols.iter().enumerate() {
+        let sgn = if j < 2 { 1.0 } else { -1.0 };
+        match col {
+            Column::Real(v) => {
+                for (row, x) in v.iter().enumerate() {
+                    lu.set(row, j, x * sgn, 0.0);
+                }
+            }
+            Column::Complex(v) => {
+                for (row, x) in v.iter().enumerate() {
+                    lu.set(row, j, x.re * sgn, x.im * sgn);
+                }
+                real = false;
+            }
+            Column::Unused => return None,
+        }
+    }
+    if real {
+        lu.factor_real_in_place()
+            .then(|| user.with(&Full::<true>(&lu)))
+    } else {
+        lu.factor_in_place().then(|| user.with(&Full::<false>(&lu)))
     }
 }
 

@@ -4,6 +4,7 @@
 //! This module imports nothing from scenes, acceleration structures or the
 //! native libraries.
 
+pub mod anisotropic;
 pub mod backward;
 pub mod coherence;
 pub mod fresnel;

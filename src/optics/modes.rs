@@ -114,13 +114,16 @@ pub enum Travel {
 }
 
 /// A single polarization mode: `s`/`p` of an isotropic wave, `o`/`e` of a
-/// uniaxial crystal.
+/// uniaxial crystal, `fast`/`slow` of a biaxial one (the inner and outer
+/// sheets of its index surface, see [`super::anisotropic`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Mode {
     S,
     P,
     O,
     E,
+    Fast,
+    Slow,
 }
 
 impl Mode {
@@ -131,45 +134,55 @@ impl Mode {
             Mode::S | Mode::P => WaveKind::Isotropic,
             Mode::O => WaveKind::Ordinary,
             Mode::E => WaveKind::Extraordinary,
+            Mode::Fast => WaveKind::Fast,
+            Mode::Slow => WaveKind::Slow,
         }
     }
 
-    /// `"s"`, `"p"`, `"o"` or `"e"`.
+    /// `"s"`, `"p"`, `"o"`, `"e"`, `"fast"` or `"slow"`.
     pub fn name(self) -> &'static str {
         match self {
             Mode::S => "s",
             Mode::P => "p",
             Mode::O => "o",
             Mode::E => "e",
+            Mode::Fast => "fast",
+            Mode::Slow => "slow",
         }
     }
 
-    /// Parse `"s"`, `"p"`, `"o"` or `"e"` (case-insensitive).
+    /// Parse `"s"`, `"p"`, `"o"`, `"e"`, `"fast"` or `"slow"`
+    /// (case-insensitive).
     pub fn parse(text: &str) -> Option<Mode> {
         match text.to_ascii_lowercase().as_str() {
             "s" => Some(Mode::S),
             "p" => Some(Mode::P),
             "o" => Some(Mode::O),
             "e" => Some(Mode::E),
+            "fast" => Some(Mode::Fast),
+            "slow" => Some(Mode::Slow),
             _ => None,
         }
     }
 
-    /// True when `medium` supports this mode (s/p isotropic, o/e uniaxial).
+    /// True when `medium` supports this mode (s/p isotropic, o/e uniaxial,
+    /// fast/slow biaxial).
     #[inline]
     pub fn exists_in(self, medium: &Medium) -> bool {
         match medium {
             Medium::Isotropic { .. } => matches!(self, Mode::S | Mode::P),
             Medium::Uniaxial { .. } => matches!(self, Mode::O | Mode::E),
+            Medium::Biaxial { .. } => matches!(self, Mode::Fast | Mode::Slow),
         }
     }
 
-    /// The two modes of a medium: `[S, P]` or `[O, E]`.
+    /// The two modes of a medium: `[S, P]`, `[O, E]` or `[Fast, Slow]`.
     #[inline]
     pub fn pair_of(medium: &Medium) -> [Mode; 2] {
         match medium {
             Medium::Isotropic { .. } => [Mode::S, Mode::P],
             Medium::Uniaxial { .. } => [Mode::O, Mode::E],
+            Medium::Biaxial { .. } => [Mode::Fast, Mode::Slow],
         }
     }
 }
@@ -181,6 +194,10 @@ pub enum WaveKind {
     Isotropic,
     Ordinary,
     Extraordinary,
+    /// The inner sheet of a biaxial crystal's index surface (lower index).
+    Fast,
+    /// The outer sheet (higher index).
+    Slow,
 }
 
 impl WaveKind {
@@ -200,6 +217,8 @@ impl WaveKind {
             WaveKind::Isotropic => Mode::S,
             WaveKind::Ordinary => Mode::O,
             WaveKind::Extraordinary => Mode::E,
+            WaveKind::Fast => Mode::Fast,
+            WaveKind::Slow => Mode::Slow,
         }
     }
 
@@ -216,6 +235,7 @@ impl WaveKind {
         match medium {
             Medium::Isotropic { .. } => &[WaveKind::Isotropic],
             Medium::Uniaxial { .. } => &[WaveKind::Ordinary, WaveKind::Extraordinary],
+            Medium::Biaxial { .. } => &[WaveKind::Fast, WaveKind::Slow],
         }
     }
 }
@@ -340,6 +360,7 @@ impl Sheet {
                 frame.n2_minus_tt(n),
                 1.0 / (n * n),
             ),
+            (Medium::Biaxial { .. }, _) => Sheet::through_roots(medium, kind, frame),
             (Medium::Uniaxial { n_o, n_e, axis }, _) => {
                 // Plain f64 first: where |Δ| exceeds its terms' magnitude
                 // times FAST_DISC_MARGIN, f64 rounding (≈ 10 ε of that
@@ -387,6 +408,41 @@ impl Sheet {
                 )
             }
         }
+    }
+
+    /// A biaxial medium's "sheet" of `kind`: the quadratic
+    /// `q² + 2 β q + C = 0` through the outgoing and incoming roots of that
+    /// name from Booker's quartic ([`super::anisotropic::waves`]), so that
+    /// [`Sheet::propagates`] and [`Sheet::root`] are right. Its `g_scale`
+    /// is 0: a biaxial wave's flux is not `|H|² g·N / 2`, and the interface
+    /// and backward code take biaxial media through
+    /// [`super::anisotropic`] instead of [`RealWave`].
+    fn through_roots(medium: &Medium, kind: WaveKind, frame: &TangentFrame) -> Sheet {
+        let w = super::anisotropic::waves(medium, frame, Side::Plus);
+        let mode = kind.first_mode();
+        let pick = |ws: &[Eigenwave; 2]| {
+            ws.iter()
+                .find(|w| w.mode == mode)
+                .unwrap_or(&ws[if mode == Mode::Slow { 1 } else { 0 }])
+                .q
+        };
+        let (q_out, q_in) = (pick(&w.outgoing), pick(&w.incoming));
+        let beta = -0.5 * (q_out.re + q_in.re);
+        let half = 0.5 * (q_out - q_in);
+        // Δ = (half-difference)² for real roots, −(Im q)² for a conjugate pair.
+        let disc = if q_out.im != 0.0 {
+            -(q_out.im * q_out.im)
+        } else {
+            half.re * half.re
+        };
+        let c = beta * beta - disc;
+        let mut sheet = Sheet::from_parts(1.0, beta, c, disc, 0.0);
+        // Side + outgoing root: q = −β + √Δ must be q_out (sign of the
+        // half-difference).
+        if q_out.im == 0.0 && half.re < 0.0 {
+            sheet.sqrt_disc = -sheet.sqrt_disc;
+        }
+        sheet
     }
 
     /// The sheet `A q² + 2 β q + C = 0` with `Δ = disc`.
@@ -457,15 +513,15 @@ pub fn n2_minus_tt(n: f64, tt: f64) -> f64 {
 /// (the vectors `t`, `c`, `N` and the indices), every sheet sees the same
 /// `t` and the same crystal.
 #[derive(Clone, Copy, Debug)]
-struct Dd {
-    hi: f64,
-    lo: f64,
+pub(crate) struct Dd {
+    pub(crate) hi: f64,
+    pub(crate) lo: f64,
 }
 
 impl Dd {
     /// Exact product (FMA error term).
     #[inline]
-    fn prod(a: f64, b: f64) -> Dd {
+    pub(crate) fn prod(a: f64, b: f64) -> Dd {
         let hi = a * b;
         // With hardware FMA the error term is one fused operation; without
         // it `mul_add` would be a libm call, so use Dekker's exact split
@@ -490,7 +546,7 @@ impl Dd {
 
     /// Exact sum of two f64 (Knuth's TwoSum).
     #[inline]
-    fn two_sum(a: f64, b: f64) -> Dd {
+    pub(crate) fn two_sum(a: f64, b: f64) -> Dd {
         let hi = a + b;
         let bb = hi - a;
         Dd {
@@ -500,7 +556,7 @@ impl Dd {
     }
 
     #[inline]
-    fn add(self, o: Dd) -> Dd {
+    pub(crate) fn add(self, o: Dd) -> Dd {
         let s = Dd::two_sum(self.hi, o.hi);
         let lo = s.lo + self.lo + o.lo;
         let hi = s.hi + lo;
@@ -512,7 +568,7 @@ impl Dd {
 
     /// Exact dot product of two f64 vectors, to double-double.
     #[inline]
-    fn dot(a: DVec3, b: DVec3) -> Dd {
+    pub(crate) fn dot(a: DVec3, b: DVec3) -> Dd {
         Dd::prod(a.x, b.x)
             .add(Dd::prod(a.y, b.y))
             .add(Dd::prod(a.z, b.z))
@@ -520,7 +576,7 @@ impl Dd {
 
     /// Product of two double-doubles (dropping lo·lo).
     #[inline]
-    fn mul_dd(self, o: Dd) -> Dd {
+    pub(crate) fn mul_dd(self, o: Dd) -> Dd {
         let p = Dd::prod(self.hi, o.hi);
         let lo = p.lo + (self.hi * o.lo + self.lo * o.hi);
         let hi = p.hi + lo;
@@ -531,12 +587,12 @@ impl Dd {
     }
 
     #[inline]
-    fn add_f64(self, b: f64) -> Dd {
+    pub(crate) fn add_f64(self, b: f64) -> Dd {
         self.add(Dd { hi: b, lo: 0.0 })
     }
 
     #[inline]
-    fn sub(self, o: Dd) -> Dd {
+    pub(crate) fn sub(self, o: Dd) -> Dd {
         self.add(Dd {
             hi: -o.hi,
             lo: -o.lo,
@@ -544,7 +600,7 @@ impl Dd {
     }
 
     #[inline]
-    fn value(self) -> f64 {
+    pub(crate) fn value(self) -> f64 {
         self.hi + self.lo
     }
 }
@@ -586,6 +642,17 @@ impl Eigenwave {
         mode: Mode,
     ) -> Option<Eigenwave> {
         debug_assert!(mode.exists_in(medium), "mode {mode:?} not in {medium:?}");
+        if medium.is_biaxial() {
+            // Booker's quartic (super::anisotropic): the wave of this name
+            // among the two travelling as asked.
+            let w = super::anisotropic::waves(medium, frame, side);
+            let pair = match travel {
+                Travel::Outgoing => w.outgoing,
+                Travel::Incoming => w.incoming,
+            };
+            let wave = pair.into_iter().find(|w| w.mode == mode)?;
+            return (travel == Travel::Outgoing || !wave.evanescent).then_some(wave);
+        }
         let sheet = Sheet::new(medium, mode.kind(), frame);
         let sigma = side.sign();
         let dir = match travel {
@@ -761,6 +828,7 @@ impl RealWave {
                 let c = (ne2 - n_o * n_o) * ne2 * self.g_scale;
                 (self.k + axis * (self.k.dot(axis) * c)).normalize()
             }
+            (Medium::Biaxial { .. }, _) => super::anisotropic::ray_direction(medium, self.k),
             _ => self.k.normalize(),
         }
     }
@@ -806,6 +874,8 @@ fn field(medium: &Medium, frame: &TangentFrame, mode: Mode, k: CVec3) -> CVec3 {
             let e = inverse_epsilon(n_o, n_e, axis, d);
             e * (1.0 / e.norm_sqr().sqrt())
         }
+        // Any anisotropic medium: the null space of W(k) (super::anisotropic).
+        (Medium::Biaxial { .. }, _) => super::anisotropic::field(medium, frame, k),
     }
 }
 
@@ -846,6 +916,7 @@ fn field_real(medium: &Medium, frame: &TangentFrame, sheet: &Sheet, mode: Mode, 
             let e = d - axis * (d.dot(axis) * c);
             e * (1.0 / e.length_squared().sqrt())
         }
+        (Medium::Biaxial { .. }, _) => super::anisotropic::field(medium, frame, CVec3::real(k)).re,
     }
 }
 
@@ -862,6 +933,8 @@ pub fn ray_vector(medium: &Medium, kind: WaveKind, k: DVec3) -> DVec3 {
             let kappa = 1.0 / (n_o * n_o) - 1.0 / (n_e * n_e);
             k / (n_e * n_e) + axis * (kappa * k.dot(axis))
         }
+        // A biaxial wave: the unit Poynting direction (not scaled as M k).
+        (Medium::Biaxial { .. }, _) => super::anisotropic::ray_direction(medium, k),
     }
 }
 
@@ -869,6 +942,9 @@ pub fn ray_vector(medium: &Medium, kind: WaveKind, k: DVec3) -> DVec3 {
 /// (any non-zero length): `n(θ) d̂` with `1/n(θ)² = d̂ᵀ M d̂`.
 #[inline]
 pub fn k_from_wave_normal(medium: &Medium, kind: WaveKind, dir: DVec3) -> DVec3 {
+    if medium.is_biaxial() {
+        return super::anisotropic::k_from_wave_normal(medium, kind, dir);
+    }
     let d = dir.normalize();
     // d̂ᵀ M d̂ = (M d̂)·d̂ for the symmetric M.
     d / ray_vector(medium, kind, d).dot(d).sqrt()
@@ -889,6 +965,7 @@ pub fn k_from_ray(medium: &Medium, kind: WaveKind, ray: DVec3) -> DVec3 {
             let v = r * (n_e * n_e) + axis * ((n_o * n_o - n_e * n_e) * axis.dot(r));
             v / v.dot(r).sqrt()
         }
+        (Medium::Biaxial { .. }, _) => super::anisotropic::k_from_ray(medium, kind, r),
     }
 }
 

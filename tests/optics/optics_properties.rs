@@ -236,6 +236,8 @@ fn modes_of(kind: WaveKind) -> &'static [Mode] {
         WaveKind::Isotropic => &[Mode::S, Mode::P],
         WaveKind::Ordinary => &[Mode::O],
         WaveKind::Extraordinary => &[Mode::E],
+        WaveKind::Fast => &[Mode::Fast],
+        WaveKind::Slow => &[Mode::Slow],
     }
 }
 

@@ -290,6 +290,12 @@ fn epsilon_times(m: &Medium, e: CVec3) -> CVec3 {
         Medium::Uniaxial { n_o, n_e, axis } => {
             e * (n_o * n_o) + CVec3::real(axis).scale(e.dot_real(axis) * (n_e * n_e - n_o * n_o))
         }
+        Medium::Biaxial { n, x, z } => [x, z.cross(x), z]
+            .iter()
+            .zip(n)
+            .fold(CVec3::ZERO, |acc, (a, ni)| {
+                acc + CVec3::real(*a).scale(e.dot_real(*a) * (ni * ni))
+            }),
     }
 }
 
@@ -307,6 +313,7 @@ fn every_eigenwave_satisfies_maxwell_and_the_energy_rule() {
             let nmax = match *m {
                 Medium::Isotropic { n } => n,
                 Medium::Uniaxial { n_o, n_e, .. } => n_o.max(n_e),
+                Medium::Biaxial { n, .. } => n.into_iter().fold(0.0, f64::max),
             };
             // Unit field (an evanescent p wave keeps E = k × s / n, the
             // vector the textbook tp refers to).

@@ -28,6 +28,7 @@ fn indices(scene: &Scene, object: usize, lambda: f64) -> (f64, f64) {
     match WavelengthMedia::new(scene, lambda).objects[object] {
         Medium::Uniaxial { n_o, n_e, .. } => (n_o, n_e),
         Medium::Isotropic { n } => (n, n),
+        other => panic!("the polariscope scenes have no biaxial objects: {other:?}"),
     }
 }
 

@@ -109,6 +109,9 @@ pub fn critical_tt(m: &Medium, n: DVec3, u: DVec3) -> Vec<f64> {
             let den = ie2 * ie2 + kappa * ie2 * (bu * bu + a * a);
             vec![n_o * n_o, big_a / den]
         }
+        // Not used for biaxial media (the stress configurations are
+        // isotropic and uniaxial).
+        Medium::Biaxial { .. } => Vec::new(),
     }
 }
 
@@ -222,6 +225,7 @@ pub fn energy_conditioning(iface: &Interface, sc: &spar::optics::Scattering) -> 
         .map(|&s| match *iface.medium(s) {
             Medium::Isotropic { n } => n,
             Medium::Uniaxial { n_o, n_e, .. } => n_o.max(n_e),
+            Medium::Biaxial { n, .. } => n.into_iter().fold(0.0, f64::max),
         })
         .fold(0.0, f64::max);
     let mut waves: Vec<&spar::optics::Eigenwave> = vec![&sc.incident];
