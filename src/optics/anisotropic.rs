@@ -43,13 +43,14 @@
 //!
 //! # Names: fast and slow
 //!
-//! For a real wave normal `û` the two indices `n₁ ≤ n₂` solve
-//! `n⁴ ûᵀεû − n² ûᵀBû + det ε = 0`; a propagating wave is *fast* when `k·k`
-//! is nearer `n₁²` than `n₂²` (the inner sheet of the index surface), *slow*
-//! otherwise. The two outgoing waves of a side are listed fast first. Near
-//! an optic axis a line `t + q N` can cut one sheet twice (both waves of a
-//! side then share a name; the ray direction tells them apart), and
-//! evanescent waves are named by their place in that order.
+//! A propagating wave with unit ray `ŝ` is *fast* when its ray index
+//! squared `(k·ŝ)²` is nearer the smaller of the two roots of Fresnel's ray
+//! equation for `ŝ` (the faster sheet of the ray surface), *slow*
+//! otherwise; away from the optic axes that is also the inner (lower
+//! index) sheet of the index surface. The two outgoing waves of a side are
+//! listed fast first. Near an optic axis both waves of a side can share a
+//! name (the ray direction then tells them apart), and evanescent waves
+//! are named by their place in that order.
 
 use super::linalg::CVec3;
 use super::medium::Medium;
@@ -159,6 +160,19 @@ impl Tensor {
         let v_fast = 0.5 * (sum + diff * (c1 * c2 + s1 * s2));
         let v_slow = 0.5 * (sum + diff * (c1 * c2 - s1 * s2));
         [1.0 / v_fast, 1.0 / v_slow]
+    }
+
+    /// The ray indices squared `x₁ ≤ x₂` (`x = (k·ŝ)²`) of the two waves
+    /// whose ray is along the unit `s`: the roots of
+    /// `Σ sᵢ²/(εᵢ − x) = 0` (principal frame), in invariant form
+    /// `x² − x (tr ε − sᵀεs) + det ε · sᵀε⁻¹s = 0` (Born & Wolf §15.2.2).
+    pub fn ray_indices_squared(&self, s: DVec3) -> [f64; 2] {
+        let tr = self.eps.x_axis.x + self.eps.y_axis.y + self.eps.z_axis.z;
+        let b = tr - s.dot(self.eps * s);
+        let c = self.det * s.dot(self.eps.inverse() * s);
+        let disc = (b * b - 4.0 * c).max(0.0).sqrt();
+        let big = 0.5 * (b + disc);
+        [c / big, big]
     }
 
     /// Booker's quartic coefficients `[c₀, c₁, c₂, c₃, c₄]` (of `q⁰…q⁴`)
@@ -512,7 +526,7 @@ pub fn waves(medium: &Medium, frame: &TangentFrame, side: Side) -> Waves {
         } else {
             DVec3::ZERO
         };
-        let mode = if !r.evanescent && is_fast(&tensor, r.k.re) {
+        let mode = if !r.evanescent && l > 0.0 && is_fast(&tensor, r.k.re, p / l) {
             Mode::Fast
         } else {
             Mode::Slow
@@ -648,12 +662,18 @@ fn rayleigh_dd(tensor: &Tensor, frame: &TangentFrame, q: f64, e: DVec3) -> f64 {
     sum.value()
 }
 
-/// True when the real wave vector `k` lies on the inner (fast) sheet:
-/// `k·k` nearer `n₁²` than `n₂²` along `k̂`.
-fn is_fast(tensor: &Tensor, k: DVec3) -> bool {
-    let kk = k.length_squared();
-    let [x1, x2] = tensor.indices_squared(k / kk.sqrt());
-    (kk - x1).abs() <= (kk - x2).abs()
+/// True when the wave of real wave vector `k` and unit ray `s` lies on the
+/// fast sheet of the ray surface: its ray index squared `(k·s)²` nearer the
+/// smaller root of [`Tensor::ray_indices_squared`]. Named by the ray
+/// surface, not the index surface: near an optic axis the outer index
+/// sheet has a dimple where two of its wave vectors share one ray
+/// direction (on different ray sheets), and the backward query finds a
+/// wave from its ray and name ([`k_from_ray`]), which is one-to-one only
+/// on the ray surface.
+fn is_fast(tensor: &Tensor, k: DVec3, s: DVec3) -> bool {
+    let x = k.dot(s).powi(2);
+    let [x1, x2] = tensor.ray_indices_squared(s);
+    (x - x1).abs() <= (x - x2).abs()
 }
 
 /// The sheet (0 fast, 1 slow) of a wave kind of an anisotropic medium.
@@ -706,14 +726,7 @@ pub fn k_from_ray(medium: &Medium, kind: WaveKind, ray: DVec3) -> DVec3 {
     let s = ray.normalize();
     let tensor = Tensor::of(medium);
     let inv = tensor.eps.inverse();
-    // Σ ŝᵢ²/(εᵢ − x) = 0 ⇔ x² − x ŝᵀBŝ/(…) … in invariant form:
-    // x² − x (tr ε − ŝᵀεŝ) + ŝᵀ adj(ε) ŝ = 0, adj ε = det ε · ε⁻¹.
-    let tr = tensor.eps.x_axis.x + tensor.eps.y_axis.y + tensor.eps.z_axis.z;
-    let b = tr - s.dot(tensor.eps * s);
-    let c = tensor.det * s.dot(inv * s);
-    let disc = (b * b - 4.0 * c).max(0.0).sqrt();
-    let big = 0.5 * (b + disc);
-    let x = [c / big, big][sheet_index(kind)];
+    let x = tensor.ray_indices_squared(s)[sheet_index(kind)];
     // Null space of ε⁻¹ − (I − ŝŝᵀ)/x (real symmetric).
     let m = inv - (DMat3::IDENTITY - super::medium::outer(s, s)) * (1.0 / x);
     let rows = [m.row(0), m.row(1), m.row(2)].map(CVec3::real);
