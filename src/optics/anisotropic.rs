@@ -787,15 +787,6 @@ pub fn optic_axes(medium: &Medium) -> Option<[DVec3; 2]> {
     ])
 }
 
-/// The unit field of the (possibly complex) wave vector `k`: the null
-/// vector of `W(k)`, or `s` projected into its null plane where that is
-/// two-dimensional (module docs).
-pub(crate) fn field(medium: &Medium, frame: &TangentFrame, k: CVec3) -> CVec3 {
-    let tensor = Tensor::of(medium);
-    let rows = tensor.w_rows(k);
-    null_vector(&rows).unwrap_or_else(|| degenerate_pair(dominant_row(&rows), frame.s)[0])
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

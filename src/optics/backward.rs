@@ -12,7 +12,7 @@
 //! away from the interface into `w`'s side (the reverse of the direction the
 //! backward ray travels when it arrives at the surface). For an
 //! extraordinary wave the wave vector is found from the ray direction,
-//! `k = M⁻¹ S / sqrt(Sᵀ M⁻¹ S)` ([`super::modes::k_from_ray`]).
+//! `k = M⁻¹ S / sqrt(Sᵀ M⁻¹ S)` ([`super::directions::k_from_ray`]).
 //!
 //! # What comes back
 //!
@@ -68,6 +68,7 @@
 //! J_w is in f.target.basis.
 //! ```
 
+use super::directions::k_from_ray;
 use super::fresnel::{fresnel_from_normals, normal_component};
 use super::interface::{
     energy_factor, tangential, tangential_real, with_full_system, with_system, Column, Interface,
@@ -76,8 +77,7 @@ use super::interface::{
 use super::jones::Jones;
 use super::medium::Medium;
 use super::modes::{
-    evanescent_fields, k_from_ray, Eigenwave, Mode, RealWave, Sheet, Side, TangentFrame, Travel,
-    WaveKind,
+    evanescent_fields, Eigenwave, Mode, RealWave, Sheet, Side, TangentFrame, Travel, WaveKind,
 };
 use glam::DVec3;
 use num_complex::Complex64;

@@ -19,12 +19,11 @@
 //! use `ã` and leave that factor out, because for a camera and lights in
 //! air it cancels along every closed path (docs/physics.md §4.5).
 
+use super::directions::{k_from_wave_normal, ray_vector};
 use super::fresnel::fresnel_from_normals;
 use super::linalg::{CVec3, Lu2, Lu4, Scalar};
 use super::medium::Medium;
-use super::modes::{
-    k_from_wave_normal, ray_vector, Eigenwave, Mode, Sheet, Side, TangentFrame, Travel,
-};
+use super::modes::{Eigenwave, Mode, Sheet, Side, TangentFrame, Travel};
 use glam::DVec3;
 use num_complex::Complex64;
 use std::fmt;
@@ -243,8 +242,7 @@ impl Interface {
         if !mode.exists_in(medium) {
             return Err(InterfaceError::ModeNotInMedium { mode, side });
         }
-        Eigenwave::new(medium, frame, side, Travel::Incoming, mode)
-            .ok_or(InterfaceError::NoSuchWave)
+        eigenwave(medium, frame, side, Travel::Incoming, mode).ok_or(InterfaceError::NoSuchWave)
     }
 
     /// The four outgoing waves for tangential component `frame.t`, in the
@@ -420,7 +418,7 @@ impl Interface {
         mode: Mode,
         frame: &TangentFrame,
     ) -> Result<Scattering, InterfaceError> {
-        let incident = Eigenwave::new(self.medium(side), frame, side, Travel::Incoming, mode)
+        let incident = eigenwave(self.medium(side), frame, side, Travel::Incoming, mode)
             .ok_or(InterfaceError::NoSuchWave)?;
         let out = self.outgoing_general(frame);
         let cols = [0, 1, 2, 3].map(|j| Column::of(frame, &out[j]));
@@ -475,6 +473,28 @@ impl Interface {
         a[ti + 1] = tt[1];
         Ok(Scattering::assemble(incident, out, a))
     }
+}
+
+/// [`Eigenwave::new`] for any medium: a biaxial one's waves from Booker's
+/// quartic ([`super::anisotropic::waves`]), the wave of that name among the
+/// two travelling as asked (an incident wave must propagate).
+pub(crate) fn eigenwave(
+    medium: &Medium,
+    frame: &TangentFrame,
+    side: Side,
+    travel: Travel,
+    mode: Mode,
+) -> Option<Eigenwave> {
+    if !medium.is_biaxial() {
+        return Eigenwave::new(medium, frame, side, travel, mode);
+    }
+    let w = super::anisotropic::waves(medium, frame, side);
+    let pair = match travel {
+        Travel::Outgoing => w.outgoing,
+        Travel::Incoming => w.incoming,
+    };
+    let wave = pair.into_iter().find(|w| w.mode == mode)?;
+    (travel == Travel::Outgoing || !wave.evanescent).then_some(wave)
 }
 
 /// Position of `mode` in its medium's pair (`[s, p]` or `[o, e]`).

@@ -7,6 +7,7 @@
 pub mod anisotropic;
 pub mod backward;
 pub mod coherence;
+pub mod directions;
 pub mod fresnel;
 pub mod interface;
 pub mod jones;

@@ -360,7 +360,11 @@ impl Sheet {
                 frame.n2_minus_tt(n),
                 1.0 / (n * n),
             ),
-            (Medium::Biaxial { .. }, _) => Sheet::through_roots(medium, kind, frame),
+            // Biaxial media have no quadratic sheet: their waves come from
+            // Booker's quartic (`super::anisotropic`), and every caller in
+            // the crate dispatches there first. Reported as carrying no
+            // propagating wave.
+            (Medium::Biaxial { .. }, _) => Sheet::from_parts(1.0, 0.0, 1.0, -1.0, 0.0),
             (Medium::Uniaxial { n_o, n_e, axis }, _) => {
                 // Plain f64 first: where |Δ| exceeds its terms' magnitude
                 // times FAST_DISC_MARGIN, f64 rounding (≈ 10 ε of that
@@ -408,41 +412,6 @@ impl Sheet {
                 )
             }
         }
-    }
-
-    /// A biaxial medium's "sheet" of `kind`: the quadratic
-    /// `q² + 2 β q + C = 0` through the outgoing and incoming roots of that
-    /// name from Booker's quartic ([`super::anisotropic::waves`]), so that
-    /// [`Sheet::propagates`] and [`Sheet::root`] are right. Its `g_scale`
-    /// is 0: a biaxial wave's flux is not `|H|² g·N / 2`, and the interface
-    /// and backward code take biaxial media through
-    /// [`super::anisotropic`] instead of [`RealWave`].
-    fn through_roots(medium: &Medium, kind: WaveKind, frame: &TangentFrame) -> Sheet {
-        let w = super::anisotropic::waves(medium, frame, Side::Plus);
-        let mode = kind.first_mode();
-        let pick = |ws: &[Eigenwave; 2]| {
-            ws.iter()
-                .find(|w| w.mode == mode)
-                .unwrap_or(&ws[if mode == Mode::Slow { 1 } else { 0 }])
-                .q
-        };
-        let (q_out, q_in) = (pick(&w.outgoing), pick(&w.incoming));
-        let beta = -0.5 * (q_out.re + q_in.re);
-        let half = 0.5 * (q_out - q_in);
-        // Δ = (half-difference)² for real roots, −(Im q)² for a conjugate pair.
-        let disc = if q_out.im != 0.0 {
-            -(q_out.im * q_out.im)
-        } else {
-            half.re * half.re
-        };
-        let c = beta * beta - disc;
-        let mut sheet = Sheet::from_parts(1.0, beta, c, disc, 0.0);
-        // Side + outgoing root: q = −β + √Δ must be q_out (sign of the
-        // half-difference).
-        if q_out.im == 0.0 && half.re < 0.0 {
-            sheet.sqrt_disc = -sheet.sqrt_disc;
-        }
-        sheet
     }
 
     /// The sheet `A q² + 2 β q + C = 0` with `Δ = disc`.
@@ -633,7 +602,9 @@ impl Eigenwave {
     /// The `mode` wave of `medium` on `side` for the frame's tangential
     /// component, travelling as `travel`. The caller guarantees that the
     /// mode exists in the medium. An incoming wave under `Δ < 0` does not
-    /// exist; this returns `None` for it (and for nothing else).
+    /// exist; this returns `None` for it (and for nothing else). Isotropic
+    /// and uniaxial media only: a biaxial medium's waves come from
+    /// [`super::anisotropic::waves`] (the interface dispatches).
     pub fn new(
         medium: &Medium,
         frame: &TangentFrame,
@@ -642,17 +613,6 @@ impl Eigenwave {
         mode: Mode,
     ) -> Option<Eigenwave> {
         debug_assert!(mode.exists_in(medium), "mode {mode:?} not in {medium:?}");
-        if medium.is_biaxial() {
-            // Booker's quartic (super::anisotropic): the wave of this name
-            // among the two travelling as asked.
-            let w = super::anisotropic::waves(medium, frame, side);
-            let pair = match travel {
-                Travel::Outgoing => w.outgoing,
-                Travel::Incoming => w.incoming,
-            };
-            let wave = pair.into_iter().find(|w| w.mode == mode)?;
-            return (travel == Travel::Outgoing || !wave.evanescent).then_some(wave);
-        }
         let sheet = Sheet::new(medium, mode.kind(), frame);
         let sigma = side.sign();
         let dir = match travel {
@@ -828,7 +788,7 @@ impl RealWave {
                 let c = (ne2 - n_o * n_o) * ne2 * self.g_scale;
                 (self.k + axis * (self.k.dot(axis) * c)).normalize()
             }
-            (Medium::Biaxial { .. }, _) => super::anisotropic::ray_direction(medium, self.k),
+            // Not built for biaxial media (see `Sheet::new`).
             _ => self.k.normalize(),
         }
     }
@@ -874,8 +834,9 @@ fn field(medium: &Medium, frame: &TangentFrame, mode: Mode, k: CVec3) -> CVec3 {
             let e = inverse_epsilon(n_o, n_e, axis, d);
             e * (1.0 / e.norm_sqr().sqrt())
         }
-        // Any anisotropic medium: the null space of W(k) (super::anisotropic).
-        (Medium::Biaxial { .. }, _) => super::anisotropic::field(medium, frame, k),
+        // Not used for biaxial media (see `Sheet::new`): the null space of
+        // W(k) is in `super::anisotropic`.
+        (Medium::Biaxial { .. }, _) => CVec3::real(frame.s),
     }
 }
 
@@ -916,61 +877,14 @@ fn field_real(medium: &Medium, frame: &TangentFrame, sheet: &Sheet, mode: Mode, 
             let e = d - axis * (d.dot(axis) * c);
             e * (1.0 / e.length_squared().sqrt())
         }
-        (Medium::Biaxial { .. }, _) => super::anisotropic::field(medium, frame, CVec3::real(k)).re,
-    }
-}
-
-/// The (unnormalized) ray direction `M k` of a real wave vector on the
-/// sheet of `kind`: `k/n²` for isotropic and ordinary waves,
-/// `k/n_e² + κ (k·c) c` for the extraordinary wave (docs/physics.md §4.3).
-#[inline]
-pub fn ray_vector(medium: &Medium, kind: WaveKind, k: DVec3) -> DVec3 {
-    match (*medium, kind) {
-        (Medium::Isotropic { n }, _) | (Medium::Uniaxial { n_o: n, .. }, WaveKind::Ordinary) => {
-            k / (n * n)
-        }
-        (Medium::Uniaxial { n_o, n_e, axis }, _) => {
-            let kappa = 1.0 / (n_o * n_o) - 1.0 / (n_e * n_e);
-            k / (n_e * n_e) + axis * (kappa * k.dot(axis))
-        }
-        // A biaxial wave: the unit Poynting direction (not scaled as M k).
-        (Medium::Biaxial { .. }, _) => super::anisotropic::ray_direction(medium, k),
-    }
-}
-
-/// The wave vector on the sheet of `kind` whose wave normal is along `dir`
-/// (any non-zero length): `n(θ) d̂` with `1/n(θ)² = d̂ᵀ M d̂`.
-#[inline]
-pub fn k_from_wave_normal(medium: &Medium, kind: WaveKind, dir: DVec3) -> DVec3 {
-    if medium.is_biaxial() {
-        return super::anisotropic::k_from_wave_normal(medium, kind, dir);
-    }
-    let d = dir.normalize();
-    // d̂ᵀ M d̂ = (M d̂)·d̂ for the symmetric M.
-    d / ray_vector(medium, kind, d).dot(d).sqrt()
-}
-
-/// The wave vector on the sheet of `kind` whose ray (energy) direction is
-/// along `ray` (any non-zero length): `k = M⁻¹ S / sqrt(Sᵀ M⁻¹ S)` with
-/// `M⁻¹ = n_e² I + (n_o² − n_e²) c cᵀ` for the extraordinary wave and
-/// `n² I` otherwise (inverting `S ∝ M k`, docs/physics.md §4.3).
-#[inline]
-pub fn k_from_ray(medium: &Medium, kind: WaveKind, ray: DVec3) -> DVec3 {
-    let r = ray.normalize();
-    match (*medium, kind) {
-        (Medium::Isotropic { n }, _) | (Medium::Uniaxial { n_o: n, .. }, WaveKind::Ordinary) => {
-            r * n
-        }
-        (Medium::Uniaxial { n_o, n_e, axis }, _) => {
-            let v = r * (n_e * n_e) + axis * ((n_o * n_o - n_e * n_e) * axis.dot(r));
-            v / v.dot(r).sqrt()
-        }
-        (Medium::Biaxial { .. }, _) => super::anisotropic::k_from_ray(medium, kind, r),
+        // Not used for biaxial media (see `Sheet::new`).
+        (Medium::Biaxial { .. }, _) => frame.s,
     }
 }
 
 #[cfg(test)]
 mod tests {
+    use super::super::directions::ray_vector;
     use super::*;
 
     #[test]

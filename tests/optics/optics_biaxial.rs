@@ -20,7 +20,8 @@ use num_complex::Complex64 as C;
 use rand::Rng;
 use rand_pcg::Pcg64;
 use spar::optics::anisotropic::{half_optic_angle, optic_axes, Tensor};
-use spar::optics::modes::{k_from_wave_normal, TangentFrame};
+use spar::optics::directions::k_from_wave_normal;
+use spar::optics::modes::TangentFrame;
 use spar::optics::{Interface, Medium, Mode, Scattering, Side, WaveKind};
 
 const ZERO: C = C::new(0.0, 0.0);
@@ -837,7 +838,7 @@ fn rays_near_an_optic_axis_fill_the_cone_of_internal_conical_refraction() {
             let d = (axis + (p1 * phi.cos() + p2 * phi.sin()) * delta).normalize();
             for kind in [WaveKind::Fast, WaveKind::Slow] {
                 let k = k_from_wave_normal(&m, kind, d);
-                let ray = spar::optics::modes::ray_vector(&m, kind, k);
+                let ray = spar::optics::directions::ray_vector(&m, kind, k);
                 assert!(ray.is_finite());
                 let a = ray.cross(axis).length().atan2(ray.dot(axis));
                 max_angle = max_angle.max(a);
@@ -858,7 +859,7 @@ fn rays_near_an_optic_axis_fill_the_cone_of_internal_conical_refraction() {
     for kind in [WaveKind::Fast, WaveKind::Slow] {
         let k = k_from_wave_normal(&m, kind, axis);
         assert!((k.length() - nb).abs() < 1e-12);
-        assert!(spar::optics::modes::ray_vector(&m, kind, k).is_finite());
+        assert!(spar::optics::directions::ray_vector(&m, kind, k).is_finite());
     }
 }
 

@@ -7,7 +7,7 @@ use glam::DVec3;
 use num_complex::Complex64;
 use rand::Rng;
 use rand_pcg::Pcg64;
-use spar::optics::modes::{k_from_wave_normal, ray_vector};
+use spar::optics::directions::{k_from_wave_normal, ray_vector};
 use spar::optics::{Interface, Medium, Mode, Side};
 
 pub fn rng(seed: u64) -> Pcg64 {
