@@ -1,7 +1,7 @@
 //! Eigenwaves of any non-absorbing anisotropic medium (a real symmetric
 //! dielectric tensor ε: biaxial crystals, and uniaxial and isotropic media
 //! as special cases) that share one tangential wave vector at an interface
-//! (docs/physics.md §4.7; Booker, Phil. Trans. R. Soc. A 237, 411 (1938);
+//! (docs/physics.md §4.8; Booker, Phil. Trans. R. Soc. A 237, 411 (1938);
 //! Born & Wolf §15.2–15.3).
 //!
 //! The conventions are those of [`super::modes`] (time dependence
