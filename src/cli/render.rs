@@ -570,12 +570,22 @@ fn print_summary(
     render_time: Duration,
 ) {
     let secs = render_time.as_secs_f64();
+    let samples = if options.adaptive.is_on() {
+        format!(
+            "{} (adaptive {}: {:.2} per pixel)",
+            job.spec.samples.label(),
+            options.adaptive.noise,
+            stats.samples as f64 / job.spec.region.area().max(1) as f64
+        )
+    } else {
+        job.spec.samples.label()
+    };
     eprintln!(
         "{}x{} px, region {}, samples {}, {} wavelength(s): accel {} {:.2} s, render {:.2} s, {} rays ({:.2} M rays/s), {} nodes, {} pruned, {} cut by depth, {} coherent, {} lost{}",
         job.scene.camera.width,
         job.scene.camera.height,
         job.spec.region,
-        job.spec.samples.label(),
+        samples,
         options.lambdas.len(),
         job.accel,
         accel_time.as_secs_f64(),

@@ -87,6 +87,9 @@ pub struct Stats {
     /// Bundles whose members parted (different facets, or farther apart
     /// than the tolerance) and continued as exact rays.
     pub splits: u64,
+    /// Camera samples taken (pixels × samples, fewer with adaptive
+    /// sampling).
+    pub samples: u64,
 }
 
 /// Lost rays by cause. Rays stopped by the depth limit are not lost light
@@ -133,6 +136,7 @@ impl std::ops::AddAssign for Stats {
         self.coherent += o.coherent;
         self.bundled += o.bundled;
         self.splits += o.splits;
+        self.samples += o.samples;
     }
 }
 

@@ -20,6 +20,8 @@
 //! seed = 0
 //! coherence = "physical"       # or "incoherent" (every path adds as an intensity)
 //! bundle = 0                   # o and e as one ray within N pixel footprints (incoherent only)
+//! adaptive = 0                 # a pixel stops at this standard error (display units); 0: off
+//! min_samples = 8              # samples before adaptive sampling's first check
 //! units = "mm"                 # one scene unit: nm, um (µm), mm, cm or m
 //!
 //! [media.my_glass]             # custom media (optional)
@@ -311,6 +313,10 @@ pub struct RenderDef {
     pub coherence: Option<Spanned<String>>,
     /// o/e bundle tolerance, pixel footprints (render::bundle).
     pub bundle: Option<Spanned<f64>>,
+    /// Adaptive sampling's noise target (render::adaptive; 0: off).
+    pub adaptive: Option<Spanned<f64>>,
+    /// Samples before adaptive sampling's first check.
+    pub min_samples: Option<Spanned<u32>>,
     /// The length of one scene unit: `nm`, `um` (or `µm`), `mm`, `cm`, `m`.
     pub units: Option<Spanned<String>>,
 }

@@ -232,6 +232,14 @@ impl Scene {
                 .bundle
                 .as_ref()
                 .map(|b| Set::new(*b.get_ref(), origin(b.span(), "render.bundle"))),
+            adaptive: r
+                .adaptive
+                .as_ref()
+                .map(|a| Set::new(*a.get_ref(), origin(a.span(), "render.adaptive"))),
+            min_samples: r
+                .min_samples
+                .as_ref()
+                .map(|m| Set::new(*m.get_ref(), origin(m.span(), "render.min_samples"))),
             ..SettingsLayer::default()
         };
         if let Some(b) = &r.branching {

@@ -109,6 +109,7 @@ fn format_from_signature(file: &mut File) -> Result<Format, Cause> {
 }
 
 /// Whether [`write`] handles `path`'s extension.
+#[cfg(feature = "native")]
 pub(super) fn writes(path: &Path) -> bool {
     format_from_extension(path).is_ok()
 }
@@ -116,6 +117,7 @@ pub(super) fn writes(path: &Path) -> bool {
 /// Whether [`read`] handles `path`: its first bytes are an OpenEXR or PNG
 /// signature, or it cannot be opened (so the error is this backend's, a
 /// plain file-system error).
+#[cfg(feature = "native")]
 pub(super) fn reads(path: &Path) -> bool {
     File::open(path).map_or(true, |mut file| format_from_signature(&mut file).is_ok())
 }
