@@ -8,6 +8,7 @@
 mod support;
 
 mod fuzz_scene;
+mod render_absorption;
 mod render_bundle;
 mod render_coherence;
 mod render_furnace;
