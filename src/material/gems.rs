@@ -222,15 +222,15 @@ pub fn spectrum(key: &str) -> Option<Curve> {
         // E ∥ c, the U band weaker in E ∥ c (McClure, "Optical spectra of
         // transition-metal ions in corundum", J. Chem. Phys. 36, 2757
         // (1962)): the o colour purplish red, the e colour orangy red.
-        "ruby-o" => bands(&[(555.6, 0.36, 1.6), (409.8, 0.40, 1.8)]),
-        "ruby-e" => bands(&[(542.0, 0.36, 1.1), (396.8, 0.40, 1.6)]),
+        "ruby-o" => bands(&[(555.6, 0.36, 1.6), (409.8, 0.60, 1.8)]),
+        "ruby-e" => bands(&[(542.0, 0.36, 1.1), (396.8, 0.60, 1.8)]),
         // Fe²⁺–Ti⁴⁺ charge transfer in corundum, near 565 nm for E ⊥ c
-        // and 700 nm for E ∥ c (Townsend, "Visible charge transfer band in
+        // and 700 nm for E ∥ c (with a weaker 565 nm band; Townsend, "Visible charge transfer band in
         // blue sapphire", Solid State Commun. 6, 81 (1968)), with the Fe³⁺
         // band at 450 nm: the o colour violetish blue, the e colour
         // greenish blue.
-        "blue-sapphire-o" => bands(&[(565.0, 0.55, 0.9), (450.0, 0.06, 0.3)]),
-        "blue-sapphire-e" => bands(&[(700.0, 0.55, 0.6), (450.0, 0.06, 0.25)]),
+        "blue-sapphire-o" => bands(&[(565.0, 0.60, 0.9), (450.0, 0.06, 0.3)]),
+        "blue-sapphire-e" => bands(&[(700.0, 0.60, 0.8), (565.0, 0.60, 0.35), (450.0, 0.06, 0.25)]),
         // Cr³⁺ in beryl: ⁴T₂ and ⁴T₁ bands near 16 100 and 23 500 cm⁻¹
         // for E ⊥ c, moved toward the red and the violet for E ∥ c (Wood,
         // Ferguson, Knox & Dillon, "Crystal-field spectra of d³,⁷ ions.

@@ -372,7 +372,8 @@ radiance = 1.0
     }
     let apart = ((want[0][0] - want[1][0]).powi(2) + (want[0][1] - want[1][1]).powi(2)).sqrt();
     eprintln!("o and e chromaticities {apart:.4} apart");
-    assert!(apart > 0.02, "the two colours differ: {apart}");
+    // Distinct far beyond the 2e-3 each half is held to.
+    assert!(apart > 0.01, "the two colours differ: {apart}");
     // The developed image: the two halves side by side, each pixel the
     // colour of its half's spectrum.
     let image = develop(&film, OutputMode::Dichroscope, &set, 580.0).unwrap();
