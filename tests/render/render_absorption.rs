@@ -111,6 +111,29 @@ fn slab_transmits_beer_lambert_times_fresnel(accel: AccelKind) {
                 "{name}, {lambda} nm: {got} against {want}"
             );
         }
+        // The same three wavelengths in one render: a constant index makes
+        // them one batch sharing its paths (each with its own α).
+        let toml = slab_scene(
+            &format!("n = {n}\nabsorption = {TABLE}"),
+            Some(""),
+            2,
+            0.0,
+            name,
+        );
+        let slab = box_obj([-5.0, -5.0, 0.0], [5.0, 5.0, D]);
+        let (scene, _d) = common::scene(&toml, &[("slab.obj", slab)]);
+        assert!(!scene.is_dispersive());
+        let lambdas = [420.0, 550.0, 700.0];
+        let (film, _) = render_model(&scene, &lambdas, accel, model);
+        for (i, lambda) in lambdas.into_iter().enumerate() {
+            let s = mean_stokes(&film, 0, film.width, 0, film.height, i);
+            let got = s[0] / spar::spectrum::cie::d65(lambda);
+            let want = face(n) * face(n) * (-table_alpha(lambda) * D).exp();
+            assert!(
+                (got / want - 1.0).abs() < 1e-6,
+                "{name}, batched, {lambda} nm: {got} against {want}"
+            );
+        }
     }
 }
 
