@@ -272,6 +272,13 @@ fn absorption_keys_load_and_misuse_is_named() {
         "n_o = 1.768\nn_e = 1.760\nabsorption_o = \"ruby-o\"\nabsorption_e = \"Ruby_E\"",
         "n_o = 1.768\nn_e = 1.760\nabsorption = 0.3",
         "n = 1.5\nabsorption = 0",
+        // docs/scenes.md's example.
+        "n_o = { sellmeier_poles = { b = [1.4313493, 0.65054713, 5.3414021], poles = [0.0726631, \
+         0.1193242, 18.028251] } }\nn_e = { sellmeier_poles = { b = [1.5039759, 0.55069141, \
+         6.5927379], poles = [0.0740288, 0.1216529, 20.072248] } }\nabsorption_o = { nm = [380, \
+         420, 480, 556, 620, 700, 780], per_mm = [0.8, 0.9, 0.2, 0.8, 0.2, 0.02, 0.0] }\n\
+         absorption_e = { nm = [380, 420, 480, 542, 620, 700, 780], per_mm = [0.8, 0.6, 0.2, \
+         0.55, 0.1, 0.01, 0.0] }",
     ] {
         let scene = load(&with(ok)).unwrap_or_else(|e| panic!("{ok}: {e}"));
         let absorbs = scene.objects[0].material.absorption().is_some();
