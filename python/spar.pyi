@@ -29,6 +29,7 @@ Mode = Literal[
     "stokes",
     "polcam",
     "polcam-mosaic",
+    "dichroscope",
 ]
 Vector = Union[Sequence[float], str]
 
@@ -200,6 +201,9 @@ class Render:
     - "color", "mono", "dop", "ellipticity", "ellipticity-paper",
       "azimuth": (height, width, 3), display values in [0, 1] (sRGB
       encoded: the PNG's values before 8-bit quantization).
+    - "dichroscope": (height, 2 * width, 3), the colour behind a polarizer
+      along image right (left half) and along image up (right half), as
+      "color" (docs/outputs.md).
 
     Rows run down the image, as in the files."""
 

@@ -39,7 +39,9 @@ pub struct RenderArgs {
     /// polvis-dop, polvis-top, polvis-lin, polvis-cir (false colours with
     /// legends), polcam (four images behind polarizers at 0, 45, 90, 135
     /// degrees), polcam-mosaic (them as a polarization sensor's 2x2
-    /// mosaic), sheet (color, DoP and AoLP side by side, labelled).
+    /// mosaic), sheet (color, DoP and AoLP side by side, labelled),
+    /// dichroscope (color behind polarizers along image right and image
+    /// up, side by side: a dichroic stone's two colours).
     /// Default: sheet without a scene file (the first run), color with
     /// one or for a raw output. With a raw output they choose the
     /// wavelengths traced.
@@ -244,7 +246,7 @@ fn checked_job(args: &RenderArgs) -> Result<Job, CliError> {
     if let Some(m) = modes.iter().find(|m| {
         matches!(
             m,
-            OutputMode::Color | OutputMode::StokesRgb | OutputMode::Sheet
+            OutputMode::Color | OutputMode::StokesRgb | OutputMode::Sheet | OutputMode::Dichroscope
         )
     }) {
         crate::spectrum::Observer::new(&scene.settings.wavelengths)

@@ -14,6 +14,7 @@
 //! depends on the thread count, the tile size, the region or the sample
 //! blocks a render is split into.
 
+mod absorb;
 pub mod adaptive;
 pub mod approx;
 pub mod blocks;

@@ -9,6 +9,7 @@
 mod support;
 
 mod fuzz_scene;
+mod render_absorption;
 mod render_adaptive;
 mod render_bundle;
 mod render_coherence;
