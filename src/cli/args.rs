@@ -184,7 +184,7 @@ pub struct SceneOverrides {
     #[arg(long, value_name = "NOISE")]
     pub adaptive: Option<f64>,
     /// Samples every pixel takes before adaptive sampling's first check
-    /// (default 8, at least 2). Overrides the scene.
+    /// (default 32, at least 2). Overrides the scene.
     #[arg(long, value_name = "N")]
     pub min_samples: Option<u32>,
     /// Spectral sampling of the colour wavelengths: all (every one for

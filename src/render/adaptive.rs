@@ -22,15 +22,22 @@
 //!   display values in [0, 1]: the error is half the spread of
 //!   `encode(clamp(m ± se))` (the curve's slope at the mean, and none
 //!   where the pixel is saturated); and its polarized part,
-//!   `√(se(Y1)² + se(Y2)² + se(Y3)²)` with `Yc` the luminance of `Sc`
-//!   integrated like the colour (white: Y0 = 1), for the Stokes images;
+//!   `√((se(Y1)² + se(Y2)² + se(Y3)²) / Y0)` with `Yc` the luminance of
+//!   `Sc` integrated like the colour (white: Y0 = 1), for the Stokes
+//!   images;
 //! - **the single wavelength** (the `mono` and polarization maps'), when
-//!   traced: its S0 displayed as `mono` (S0 / D65(λ), encoded), and its
-//!   polarized part, `√(se(S1)² + se(S2)² + se(S3)²) / D65(λ)`: the error
-//!   of the DoP times the pixel's intensity in units of white (a radiance
-//!   1 light seen directly), so a pixel counts as it does in the
-//!   intensity-weighted DoP error, and black pixels (whose DoP is 0/0) do
-//!   not hold the render.
+//!   traced: its S0 displayed as `mono` (I = S0 / D65(λ), encoded), and
+//!   its polarized part `√((se(S1)² + se(S2)² + se(S3)²) / D65(λ)² / I)`.
+//!
+//! The polarized parts are the DoP's error as the intensity-weighted DoP
+//! error counts it: a pixel of intensity I (in units of white, a radiance
+//! 1 light seen directly) and DoP error e adds I·e² to its sum, and e is
+//! about `se(S1..S3) / I`, so √(I·e²) = `se(S1..S3) / √I`. A dark pixel
+//! is held to a stricter polarization error than a bright one, since its
+//! DoP error is larger for the same spread; a black one (I below 1e-4 of
+//! white is taken as 1e-4) does not hold the render forever. (The plain
+//! DoP error, which counts black pixels' 0/0 as much as lit ones, is not
+//! what this aims at; docs/speed-vs-error.md says why.)
 //!
 //! Everything is decided from the pixel's own samples, in sample order:
 //! the image does not depend on tiles, threads or farm regions (tiles
@@ -38,8 +45,11 @@
 //! and is refused with adaptive sampling on.
 //!
 //! The estimate is biased where a pixel's first samples all miss a rare
-//! bright path (a small variance from few samples): `min_samples` bounds
-//! that risk; 8 by default.
+//! bright path (a small variance from few samples, or none when they are
+//! all equal): `min_samples` bounds that risk. 32 by default, from
+//! measurement (docs/speed-vs-error.md, "What adaptive sampling buys"): on
+//! the glass gem at 128×128, 8 and 16 gave a worse image than fixed
+//! sampling for the same rays.
 
 use crate::spectrum::{cie, srgb, Observer, WavelengthSet};
 
@@ -54,7 +64,7 @@ pub struct Adaptive {
 }
 
 /// Default samples before a pixel's first check.
-pub const DEFAULT_MIN_SAMPLES: u32 = 8;
+pub const DEFAULT_MIN_SAMPLES: u32 = 32;
 
 impl Default for Adaptive {
     fn default() -> Self {
@@ -96,6 +106,10 @@ const QUANTITIES: usize = 10;
 
 /// Rec. 709 / sRGB luminance of linear R, G, B (IEC 61966-2-1).
 const LUMINANCE: [f64; 3] = [0.2126, 0.7152, 0.0722];
+
+/// The intensity (in units of white) below which a pixel's polarization
+/// error is weighed as at this one.
+const DARKEST: f64 = 1e-4;
 
 /// Index of the single wavelength's S0 among the quantities.
 const MONO: usize = 6;
@@ -214,24 +228,27 @@ impl PixelNoise {
         }
         let n = self.n as f64;
         let mut worst: f64 = 0.0;
-        let polarized = |first: usize| {
-            (first..first + 3)
+        // The intensity-weighted error of the polarization (module
+        // documentation): the spread of S1..S3 over √I.
+        let polarized = |first: usize, intensity: f64| {
+            let spread: f64 = (first..first + 3)
                 .map(|k| self.standard_error_bound(k).powi(2))
-                .sum::<f64>()
-                .sqrt()
+                .sum();
+            (spread / intensity.max(DARKEST)).sqrt()
         };
         if !measure.colour.is_empty() {
             for k in 0..3 {
                 worst = worst.max(display_error(self.sum[k] / n, self.standard_error_bound(k)));
             }
-            worst = worst.max(polarized(3));
+            let y0: f64 = (0..3).map(|k| LUMINANCE[k] * self.sum[k] / n).sum();
+            worst = worst.max(polarized(3, y0));
         }
         if measure.mono.is_some() {
             worst = worst.max(display_error(
                 self.sum[MONO] / n,
                 self.standard_error_bound(MONO),
             ));
-            worst = worst.max(polarized(MONO + 1));
+            worst = worst.max(polarized(MONO + 1, self.sum[MONO] / n));
         }
         worst
     }
@@ -266,12 +283,13 @@ mod tests {
         let m = NoiseMeasure::new(vec![], Some((0, 1.0)));
         let mut p = PixelNoise::default();
         for x in 1..=5 {
-            p.push(&m, &[0.0, x as f32, 0.0, 0.0]);
+            p.push(&m, &[4.0, x as f32, 0.0, 0.0]);
         }
         assert!((p.standard_error(MONO + 1) - 0.5f64.sqrt()).abs() < 1e-12);
-        // S0 is constant (0): no display error; the polarized part is se(S1)
-        // at its upper bound, √(4 / χ²₀.₀₅(4)) with χ²₀.₀₅(4) = 0.7107.
-        let bound = 0.5f64.sqrt() * (4.0f64 / 0.7107).sqrt();
+        // S0 is constant (4, saturated on display): no display error; the
+        // polarized part is se(S1) at its upper bound, × √(4 / χ²₀.₀₅(4))
+        // with χ²₀.₀₅(4) = 0.7107, over √I = 2.
+        let bound = 0.5f64.sqrt() * (4.0f64 / 0.7107).sqrt() / 2.0;
         assert!((p.error(&m) / bound - 1.0).abs() < 0.02, "{}", p.error(&m));
     }
 
@@ -288,10 +306,7 @@ mod tests {
             (63.0, 45.741, 0.015),
         ] {
             let got = chi_square_lower_5(k);
-            assert!(
-                (got / table - 1.0).abs() < tol,
-                "k = {k}: {got} vs {table}"
-            );
+            assert!((got / table - 1.0).abs() < tol, "k = {k}: {got} vs {table}");
         }
     }
 

@@ -21,7 +21,7 @@
 //! coherence = "physical"       # or "incoherent" (every path adds as an intensity)
 //! bundle = 0                   # o and e as one ray within N pixel footprints (incoherent only)
 //! adaptive = 0                 # a pixel stops at this standard error (display units); 0: off
-//! min_samples = 8              # samples before adaptive sampling's first check
+//! min_samples = 32             # samples before adaptive sampling's first check
 //! units = "mm"                 # one scene unit: nm, um (µm), mm, cm or m
 //!
 //! [media.my_glass]             # custom media (optional)
