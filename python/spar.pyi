@@ -29,6 +29,7 @@ Mode = Literal[
     "stokes",
     "polcam",
     "polcam-mosaic",
+    "dichroscope",
 ]
 Vector = Union[Sequence[float], str]
 
@@ -68,6 +69,8 @@ class Settings(TypedDict):
     spectral: str
     dispersion: str
     bundle: float
+    adaptive: float
+    min_samples: int
 
 class Scene:
     """A scene: objects, lights and camera as its file gave them, and
@@ -102,6 +105,13 @@ class Scene:
     bundle: float
     """o/e bundle tolerance in pixel footprints (0: every eigenwave its
     own ray, the exact tree); needs coherence "incoherent"."""
+    adaptive: float
+    """Adaptive sampling: a pixel stops once the standard error of its
+    mean is at most this, in display units (0: off; samples is then the
+    most a pixel takes)."""
+    min_samples: int
+    """Samples every pixel takes before adaptive sampling's first check
+    (at least 2)."""
     quality: Literal["draft", "default", "reference"]
     """Write-only (reading raises AttributeError): applies a preset of
     depth, pruning and approximations (docs/speed-vs-error.md); samples
@@ -130,6 +140,8 @@ class Scene:
         spectral: str | None = ...,
         dispersion: str | None = ...,
         bundle: float | None = ...,
+        adaptive: float | None = ...,
+        min_samples: int | None = ...,
     ) -> None:
         """Changes several settings at once, checked together as the
         command line checks its flags (quality is a preset the others
@@ -158,6 +170,8 @@ class Scene:
         spectral: str | None = ...,
         dispersion: str | None = ...,
         bundle: float | None = ...,
+        adaptive: float | None = ...,
+        min_samples: int | None = ...,
     ) -> Render:
         """Renders the scene in one or more modes (a name, "color,stokes"
         or a sequence), as `spar render --mode …` does.
@@ -187,6 +201,9 @@ class Render:
     - "color", "mono", "dop", "ellipticity", "ellipticity-paper",
       "azimuth": (height, width, 3), display values in [0, 1] (sRGB
       encoded: the PNG's values before 8-bit quantization).
+    - "dichroscope": (height, 2 * width, 3), the colour behind a polarizer
+      along image right (left half) and along image up (right half), as
+      "color" (docs/outputs.md).
 
     Rows run down the image, as in the files."""
 

@@ -69,7 +69,6 @@ fn the_python_module_installs_with_pip_and_passes_its_pytest_suite() {
         &["./python"],
         &[("CARGO_TARGET_DIR", &target.to_string_lossy())],
     );
-    let native = if cfg!(feature = "native") { "1" } else { "0" };
     let out = step(
         "pytest python/tests",
         &python,
@@ -82,20 +81,15 @@ fn the_python_module_installs_with_pip_and_passes_its_pytest_suite() {
             "no:cacheprovider",
             "python/tests",
         ],
-        &[
-            ("SPAR_BIN", env!("CARGO_BIN_EXE_spar")),
-            ("SPAR_CLI_NATIVE", native),
-        ],
+        &[("SPAR_BIN", env!("CARGO_BIN_EXE_spar"))],
         "",
     );
     let report = String::from_utf8_lossy(&out.stdout);
     println!("{report}");
-    // The only skips allowed are the textured scene's, in a pass whose
-    // command line is not the module's build (the module is pure Rust).
+    // No test may be skipped.
     let skipped = report
         .lines()
         .filter(|l| l.starts_with("SKIPPED"))
-        .filter(|l| !(native == "1" && l.contains("has a PNG texture")))
         .collect::<Vec<_>>();
     assert!(
         skipped.is_empty(),

@@ -1,9 +1,10 @@
 //! Start-up stays light: spar does not link OpenImageIO, so commands that
-//! write no image through it never map its ~260 shared libraries; the
-//! image commands load spar's shim library (`libspar_oiio.so`) when they
-//! first read or write a file, from `SPAR_OIIO_SHIM`, beside the
-//! executable, or where the build wrote it; and a shim that cannot be
-//! loaded is a clear error, not a crash.
+//! write no image through it (`--version`, `interface`, and every render
+//! to PNG or EXR, which spar's own codecs write) never map its ~260 shared
+//! libraries; a command that needs it (TIFF, JPEG…) loads spar's shim
+//! library (`libspar_oiio.so`) when it first reads or writes such a file,
+//! from `SPAR_OIIO_SHIM`, beside the executable, or where the build wrote
+//! it; and a shim that cannot be loaded is a clear error, not a crash.
 //!
 //! What is loaded is seen through the dynamic linker's own report
 //! (`LD_DEBUG=files`, glibc), checked first on a command that must load
@@ -68,7 +69,7 @@ fn mentions(files: &[String], name: &str) -> bool {
 const RENDER: [&str; 4] = ["render", "--resolution", "8x8", "-o"];
 
 #[test]
-fn version_and_interface_do_not_load_openimageio() {
+fn version_interface_and_png_or_exr_renders_do_not_load_openimageio() {
     let dir = tempfile::tempdir().unwrap();
     let debug = [("LD_DEBUG", Some("files"))];
 
@@ -86,8 +87,14 @@ fn version_and_interface_do_not_load_openimageio() {
     assert!(mentions(&files, "libspar_oiio.so"), "{files:?}");
     assert!(mentions(&files, "libOpenImageIO"), "{files:?}");
 
+    let png = dir.path().join("r.png");
+    let exr = dir.path().join("r.exr");
+    let png_render = [&RENDER[..], &[png.to_str().unwrap()]].concat();
+    let exr_render = [&RENDER[..], &[exr.to_str().unwrap(), "--mode", "stokes"]].concat();
     for args in [
         &["--version"][..],
+        &png_render,
+        &exr_render,
         &[
             "interface",
             "--from",
@@ -140,11 +147,11 @@ fn renders_write_png_exr_and_tiff() {
 fn the_environment_variable_overrides_the_search() {
     let dir = tempfile::tempdir().unwrap();
     let built = spar_sys::oiio::BUILT_LIBRARY;
-    let png = dir.path().join("named.png");
-    let args = [&RENDER[..], &[png.to_str().unwrap()]].concat();
+    let tif = dir.path().join("named.tif");
+    let args = [&RENDER[..], &[tif.to_str().unwrap()]].concat();
     let out = run(spar_exe(), dir.path(), &args, &[(ENV, Some(built))]);
     assert_ok(&out);
-    assert!(png.is_file());
+    assert!(tif.is_file());
 }
 
 #[test]
@@ -153,14 +160,20 @@ fn a_shim_that_cannot_be_loaded_is_a_clear_error_not_a_crash() {
     let nowhere = dir.path().join("nowhere").join("libspar_oiio.so");
     let env = [(ENV, Some(nowhere.to_str().unwrap()))];
 
-    // Commands that need no image library do not notice.
+    // Commands that need no image library do not notice, renders to PNG
+    // and EXR included.
     assert_ok(&run(spar_exe(), dir.path(), &["--version"], &env));
+    let own = dir.path().join("own");
+    std::fs::create_dir(&own).unwrap();
+    for (file, mode) in [("out.png", "color"), ("out.exr", "stokes")] {
+        let path = own.join(file);
+        let args = [&RENDER[..], &[path.to_str().unwrap(), "--mode", mode]].concat();
+        assert_ok(&run(spar_exe(), dir.path(), &args, &env));
+        assert!(path.is_file(), "{file}");
+    }
+    std::fs::remove_dir_all(&own).unwrap();
 
-    for (file, mode) in [
-        ("out.png", "color"),
-        ("out.exr", "stokes"),
-        ("out.tif", "color"),
-    ] {
+    for (file, mode) in [("out.tif", "color"), ("out.jpg", "color")] {
         let path = dir.path().join(file);
         let args = [&RENDER[..], &[path.to_str().unwrap(), "--mode", mode]].concat();
         let out = run(spar_exe(), dir.path(), &args, &env);
@@ -188,8 +201,8 @@ fn a_shim_that_cannot_be_loaded_is_a_clear_error_not_a_crash() {
     // A file that is not a shared library is refused the same way.
     let junk = dir.path().join("junk.so");
     std::fs::write(&junk, b"not a library").unwrap();
-    let png = dir.path().join("out.png");
-    let args = [&RENDER[..], &[png.to_str().unwrap()]].concat();
+    let tif = dir.path().join("out.tif");
+    let args = [&RENDER[..], &[tif.to_str().unwrap()]].concat();
     let out = run(
         spar_exe(),
         dir.path(),

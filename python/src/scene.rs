@@ -98,8 +98,8 @@ impl Scene {
 impl Scene {
     /// Changes several settings at once (samples, resolution, wavelengths,
     /// max_depth, prune, seed, quality, branching, polarization,
-    /// coherence, spectral, dispersion, bundle), checked together as the command
-    /// line checks its flags: `quality` is a preset the others override.
+    /// coherence, spectral, dispersion, bundle, adaptive, min_samples),
+    /// checked together as the command line checks its flags: `quality` is a preset the others override.
     /// On an error nothing changes.
     #[pyo3(signature = (**settings))]
     fn set(&mut self, settings: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
@@ -244,6 +244,28 @@ impl Scene {
     #[setter]
     fn set_bundle(&mut self, value: &Bound<'_, PyAny>) -> PyResult<()> {
         self.set_one("bundle", value)
+    }
+
+    /// Adaptive sampling: a pixel stops taking samples once the standard
+    /// error of its mean is at most this, in display units (0: off;
+    /// `samples` is then the most a pixel takes).
+    #[getter]
+    fn adaptive(&self) -> f64 {
+        self.inner.settings.adaptive.noise
+    }
+    #[setter]
+    fn set_adaptive(&mut self, value: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.set_one("adaptive", value)
+    }
+
+    /// Samples every pixel takes before adaptive sampling's first check.
+    #[getter]
+    fn min_samples(&self) -> u32 {
+        self.inner.settings.adaptive.min_samples
+    }
+    #[setter]
+    fn set_min_samples(&mut self, value: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.set_one("min_samples", value)
     }
 
     /// Applies a quality preset (draft, default, reference): depth,

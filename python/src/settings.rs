@@ -19,7 +19,7 @@ use std::str::FromStr;
 
 /// The settings a scene takes from Python, in the order the docs list
 /// them.
-pub const NAMES: [&str; 13] = [
+pub const NAMES: [&str; 15] = [
     "samples",
     "resolution",
     "wavelengths",
@@ -33,6 +33,8 @@ pub const NAMES: [&str; 13] = [
     "spectral",
     "dispersion",
     "bundle",
+    "adaptive",
+    "min_samples",
 ];
 
 /// The Python name of a command-line flag: `--max-depth` → `max_depth`.
@@ -172,6 +174,8 @@ fn set(o: &mut SceneOverrides, name: &str, value: &Bound<'_, PyAny>) -> PyResult
         "spectral" => o.spectral = Some(parsed::<Spectral>(name, value)?),
         "dispersion" => o.dispersion = Some(parsed::<DispersionMode>(name, value)?),
         "bundle" => o.bundle = Some(real(name, value)?),
+        "adaptive" => o.adaptive = Some(real(name, value)?),
+        "min_samples" => o.min_samples = Some(whole(name, value)?),
         other => {
             return Err(pyo3::exceptions::PyTypeError::new_err(format!(
                 "unknown setting `{other}`; the settings are {}",
@@ -229,5 +233,7 @@ pub fn as_dict<'py>(py: Python<'py>, scene: &Scene) -> PyResult<Bound<'py, PyDic
     d.set_item("spectral", s.approx.spectral.to_string())?;
     d.set_item("dispersion", s.approx.dispersion.to_string())?;
     d.set_item("bundle", s.approx.strategy.bundle)?;
+    d.set_item("adaptive", s.adaptive.noise)?;
+    d.set_item("min_samples", s.adaptive.min_samples)?;
     Ok(d)
 }

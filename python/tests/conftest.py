@@ -46,18 +46,3 @@ def run_spar(spar_bin, repo):
         return done
 
     return run
-
-
-@pytest.fixture(scope="session")
-def cli_native(run_spar, tmp_path_factory):
-    """Whether the command line is the native build (Embree and
-    OpenImageIO): SPAR_CLI_NATIVE (0 or 1) from tests/python.rs, else
-    asked of the binary (only the native build traces with Embree)."""
-    known = os.environ.get("SPAR_CLI_NATIVE")
-    if known is not None:
-        return known == "1"
-    out = tmp_path_factory.mktemp("probe") / "probe.png"
-    probe = run_spar(
-        "render", "--accel", "embree", "--resolution", "1x1", "-q", "-o", out, check=False
-    )
-    return probe.returncode == 0

@@ -78,6 +78,13 @@ def test_a_bad_setting_is_refused_and_changes_nothing(repo):
     assert (scene.coherence, scene.bundle) == ("incoherent", 0.5)
     with pytest.raises(TypeError, match="unknown setting `depth`"):
         scene.set(depth=3)
+    with pytest.raises(spar.InputError, match="min_samples must be at least 2"):
+        scene.min_samples = 1
+    with pytest.raises(spar.InputError, match="adaptive must be a standard error"):
+        scene.adaptive = -1.0
+    scene.set(adaptive=0.02, min_samples=4)
+    assert (scene.adaptive, scene.min_samples) == (0.02, 4)
+    assert scene.settings["adaptive"] == 0.02
 
 
 def test_render_arguments_are_checked_before_rendering(repo):

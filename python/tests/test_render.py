@@ -1,11 +1,8 @@
 """Scene.render's arrays hold the command line's EXR values bit for bit.
 
 Two scenes: the conoscope (no texture) and the seed's calcite scene (a
-PNG texture on its light). A texture is read by OpenImageIO in the
-native build and by spar's own PNG reader in the pure-Rust one, whose
-sRGB decodes differ in the last bits; so the textured scene is compared
-where the command line and the module are the same build (the CI's
-pure-Rust pass), and the conoscope in every pass.
+PNG texture on its light, which both builds decode with spar's own PNG
+reader, so the native command line and this pure-Rust module agree).
 """
 
 import os
@@ -38,17 +35,10 @@ def bits(a):
 
 
 @pytest.fixture(scope="module", params=SCENES)
-def both(request, run_spar, repo, tmp_path_factory, cli_native):
+def both(request, run_spar, repo, tmp_path_factory):
     """The same render by the command line (stokes and polcam EXRs) and
     by Python."""
     scene_file = request.param
-    if "polariscope" not in scene_file and cli_native != spar.NATIVE:
-        pytest.skip(
-            f"{scene_file} has a PNG texture, which the native command line reads "
-            "through OpenImageIO and this pure-Rust module through spar's own PNG "
-            "reader (their sRGB decodes differ in the last bits); compared where "
-            "both are the same build (CI's pure-Rust pass)"
-        )
     out = tmp_path_factory.mktemp("cli") / "calcite.exr"
     run_spar("render", scene_file, "--mode", "stokes,polcam", *CLI_FLAGS, "-q", "-o", out)
     scene = spar.load_scene(os.path.join(repo, scene_file))

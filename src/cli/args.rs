@@ -176,6 +176,17 @@ pub struct SceneOverrides {
     /// incoherent. Overrides the scene.
     #[arg(long, value_name = "TOL")]
     pub bundle: Option<f64>,
+    /// Adaptive sampling: each pixel stops taking samples once the standard
+    /// error of its mean is at most NOISE in display units (colour as
+    /// sRGB values in 0..1, polarization in units of a white pixel),
+    /// checked at --min-samples and each doubling; --samples is then the
+    /// most a pixel takes. 0: off. Overrides the scene.
+    #[arg(long, value_name = "NOISE")]
+    pub adaptive: Option<f64>,
+    /// Samples every pixel takes before adaptive sampling's first check
+    /// (default 32, at least 2). Overrides the scene.
+    #[arg(long, value_name = "N")]
+    pub min_samples: Option<u32>,
     /// Spectral sampling of the colour wavelengths: all (every one for
     /// every sample) or hero:K (K stratified wavelengths per sample,
     /// rotating across samples). Overrides the scene.
@@ -238,6 +249,8 @@ impl SceneOverrides {
             dispersion: set(self.dispersion, "--dispersion", origin),
             coherence: set(self.coherence, "--coherence", origin),
             bundle: set(self.bundle, "--bundle", origin),
+            adaptive: set(self.adaptive, "--adaptive", origin),
+            min_samples: set(self.min_samples, "--min-samples", origin),
         };
         [self.quality.map(Quality::layer).unwrap_or_default(), flags]
     }
@@ -255,6 +268,14 @@ impl SceneOverrides {
             return Err(self.explain(scene, e));
         }
         match self.samples {
+            Some(SamplesArg::Block { start, end, .. }) if scene.settings.adaptive.is_on() => {
+                Err(CliError::input(format!(
+                    "--samples {start}..{end}: a sample block cannot be rendered with adaptive \
+                     sampling on (adaptive = {}): each pixel decides from all its samples; split \
+                     the render by region or tiles instead, or set --adaptive 0",
+                    scene.settings.adaptive.noise
+                )))
+            }
             Some(SamplesArg::Block { start, end, .. }) => {
                 Ok(Some(SampleRange::new(start, end, scene.samples).ok_or_else(|| {
                     CliError::input(format!(
@@ -347,6 +368,12 @@ impl SceneOverrides {
         }
         if let Some(b) = self.bundle {
             a.extend(["--bundle".into(), b.to_string()]);
+        }
+        if let Some(n) = self.adaptive {
+            a.extend(["--adaptive".into(), n.to_string()]);
+        }
+        if let Some(n) = self.min_samples {
+            a.extend(["--min-samples".into(), n.to_string()]);
         }
         a
     }

@@ -62,6 +62,11 @@ pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
             "the polvis-stokes mode is three images (S1, S2, S3): render it with spar render",
         ));
     }
+    if args.mode.contains(&OutputMode::Dichroscope) {
+        return Err(CliError::input(
+            "the dichroscope mode is two images side by side: render it with spar render",
+        ));
+    }
     if args.mode.contains(&OutputMode::Sheet) {
         return Err(CliError::input(
             "the sheet mode is a sheet of its own: give contact-sheet the modes (color,dop,aolp)",
@@ -134,6 +139,7 @@ pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
             | OutputMode::Polcam
             | OutputMode::PolcamMosaic
             | OutputMode::PolvisStokes
+            | OutputMode::Dichroscope
             | OutputMode::Sheet => {
                 unreachable!("refused above")
             }

@@ -39,7 +39,9 @@ pub struct RenderArgs {
     /// polvis-dop, polvis-top, polvis-lin, polvis-cir (false colours with
     /// legends), polcam (four images behind polarizers at 0, 45, 90, 135
     /// degrees), polcam-mosaic (them as a polarization sensor's 2x2
-    /// mosaic), sheet (color, DoP and AoLP side by side, labelled).
+    /// mosaic), sheet (color, DoP and AoLP side by side, labelled),
+    /// dichroscope (color behind polarizers along image right and image
+    /// up, side by side: a dichroic stone's two colours).
     /// Default: sheet without a scene file (the first run), color with
     /// one or for a raw output. With a raw output they choose the
     /// wavelengths traced.
@@ -244,7 +246,7 @@ fn checked_job(args: &RenderArgs) -> Result<Job, CliError> {
     if let Some(m) = modes.iter().find(|m| {
         matches!(
             m,
-            OutputMode::Color | OutputMode::StokesRgb | OutputMode::Sheet
+            OutputMode::Color | OutputMode::StokesRgb | OutputMode::Sheet | OutputMode::Dichroscope
         )
     }) {
         crate::spectrum::Observer::new(&scene.settings.wavelengths)
@@ -570,12 +572,22 @@ fn print_summary(
     render_time: Duration,
 ) {
     let secs = render_time.as_secs_f64();
+    let samples = if options.adaptive.is_on() {
+        format!(
+            "{} (adaptive {}: {:.2} per pixel)",
+            job.spec.samples.label(),
+            options.adaptive.noise,
+            stats.samples as f64 / job.spec.region.area().max(1) as f64
+        )
+    } else {
+        job.spec.samples.label()
+    };
     eprintln!(
         "{}x{} px, region {}, samples {}, {} wavelength(s): accel {} {:.2} s, render {:.2} s, {} rays ({:.2} M rays/s), {} nodes, {} pruned, {} cut by depth, {} coherent, {} lost{}",
         job.scene.camera.width,
         job.scene.camera.height,
         job.spec.region,
-        job.spec.samples.label(),
+        samples,
         options.lambdas.len(),
         job.accel,
         accel_time.as_secs_f64(),

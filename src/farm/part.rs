@@ -140,6 +140,13 @@ impl RenderInfo {
                 if a.strategy.bundle > 0.0 {
                     s += &format!(" bundle={}", a.strategy.bundle);
                 }
+                let adaptive = scene.settings.adaptive;
+                if adaptive.is_on() {
+                    s += &format!(
+                        " adaptive={} min_samples={}",
+                        adaptive.noise, adaptive.min_samples
+                    );
+                }
                 s
             },
         }

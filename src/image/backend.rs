@@ -1,6 +1,9 @@
 //! The one place that chooses the backend of [`write`] and [`read`]:
-//! OpenImageIO with the `native` feature, spar's pure-Rust codecs
-//! ([`super::pure`]) without it.
+//! spar's pure-Rust codecs ([`super::pure`]) for OpenEXR and PNG in every
+//! build, and OpenImageIO ([`super::oiio`]) for every other format with the
+//! `native` feature. A render to PNG or EXR thus never loads OpenImageIO's
+//! ~260 shared libraries (issue 13's start-up target), and both builds
+//! write and read these two formats with the same code.
 
 use super::io::{self, Backend};
 use super::{Image, ImageError, WriteOptions};
@@ -23,10 +26,49 @@ pub fn read(path: &Path) -> Result<Image, ImageError> {
     io::read_with(DEFAULT, path)
 }
 
-#[cfg(feature = "native")]
-const DEFAULT: &Backend = &oiio::BACKEND;
 #[cfg(not(feature = "native"))]
-const DEFAULT: &Backend = &crate::image::pure::BACKEND;
+const DEFAULT: &Backend = &super::pure::BACKEND;
+
+/// By extension on write and by signature on read: the pure-Rust codecs for
+/// what they handle, OpenImageIO for the rest.
+#[cfg(feature = "native")]
+const DEFAULT: &Backend = &Backend {
+    write: |path, image, pixels, options| {
+        let backend = if super::pure::writes(path) {
+            &super::pure::BACKEND
+        } else {
+            &oiio::BACKEND
+        };
+        (backend.write)(path, image, pixels, options)
+    },
+    read: |path| {
+        let backend = if super::pure::reads(path) {
+            &super::pure::BACKEND
+        } else {
+            &oiio::BACKEND
+        };
+        (backend.read)(path)
+    },
+};
+
+/// Every format through OpenImageIO (PNG and EXR included), for checking
+/// the pure-Rust codecs against it, file for file.
+#[cfg(feature = "native")]
+pub mod oiio_only {
+    use super::io;
+    use crate::image::{Image, ImageError, WriteOptions};
+    use std::path::Path;
+
+    /// [`super::write`] through OpenImageIO whatever the format.
+    pub fn write(path: &Path, image: &Image, options: WriteOptions) -> Result<(), ImageError> {
+        io::write_with(&super::oiio::BACKEND, path, image, options)
+    }
+
+    /// [`super::read`] through OpenImageIO whatever the format.
+    pub fn read(path: &Path) -> Result<Image, ImageError> {
+        io::read_with(&super::oiio::BACKEND, path)
+    }
+}
 
 /// OpenImageIO, through the shim library of `spar-sys`, loaded by
 /// [`crate::native::oiio`] at the first read or write (not at start-up).

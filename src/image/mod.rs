@@ -8,11 +8,11 @@
 //! [`write`] picks the format from the file's extension (`.exr`, `.png`,
 //! `.tif`/`.tiff`, `.jpg`/`.jpeg`, …) and stores the sample type asked for
 //! in [`WriteOptions`]; [`read`] returns linear floats whatever the file
-//! held. Both go through OpenImageIO when spar is built with the `native`
-//! feature, and through spar's pure-Rust codecs ([`pure`]) without it. The
-//! pure-Rust backend keeps the same contract for **OpenEXR and PNG only**:
-//! it refuses TIFF, JPEG and every other format with an error saying that
-//! they need the `native` feature, and [`draw_text`] is unavailable.
+//! held. OpenEXR and PNG go through spar's pure-Rust codecs ([`pure`]) in
+//! every build; every other format goes through OpenImageIO when spar is
+//! built with the `native` feature. Without it, TIFF, JPEG and the rest are
+//! refused with an error saying that they need the `native` feature, and
+//! [`draw_text`] is unavailable.
 //!
 //! OpenImageIO is not linked into spar: the first read or write through it
 //! loads spar's shim library (`libspar_oiio.so`; see `spar::native::oiio`
@@ -67,6 +67,8 @@ mod backend;
 mod io;
 pub mod pure;
 
+#[cfg(feature = "native")]
+pub use backend::oiio_only;
 pub use backend::{read, write};
 pub use io::draw_text;
 

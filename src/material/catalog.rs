@@ -19,6 +19,34 @@ pub const BUILTIN_NAMES: &[&str] = &[
     "sapphire",
 ];
 
+pub use super::gems::SPECTRUM_NAMES;
+
+/// The built-in absorption spectrum called `name` (case-insensitive; `_`
+/// and spaces count as `-`), per mm ([`SPECTRUM_NAMES`]).
+pub fn absorption_spectrum(name: &str) -> Option<super::Curve> {
+    super::gems::spectrum(&canonical(name))
+}
+
+/// Every name [`builtin`] knows, for the message of an unknown one: the
+/// media above, then the gems of [`super::gems`].
+pub fn known_names() -> Vec<&'static str> {
+    BUILTIN_NAMES
+        .iter()
+        .chain(super::gems::GEM_NAMES)
+        .copied()
+        .collect()
+}
+
+/// A name as the catalogue looks it up: trimmed, lower case, `_` and
+/// spaces as `-`.
+fn canonical(name: &str) -> String {
+    name.trim()
+        .to_ascii_lowercase()
+        .chars()
+        .map(|c| if c == '_' || c == ' ' { '-' } else { c })
+        .collect()
+}
+
 /// Aliases and the canonical name each stands for.
 const ALIASES: &[(&str, &str)] = &[
     ("ciddor-air", "standard-air"),
@@ -172,12 +200,7 @@ pub fn sapphire() -> Material {
 /// The built-in material called `name` (case-insensitive; `_` and spaces
 /// count as `-`), or `None`.
 pub fn builtin(name: &str) -> Option<Material> {
-    let key: String = name
-        .trim()
-        .to_ascii_lowercase()
-        .chars()
-        .map(|c| if c == '_' || c == ' ' { '-' } else { c })
-        .collect();
+    let key = canonical(name);
     let key = ALIASES
         .iter()
         .find(|(alias, _)| *alias == key)
@@ -192,6 +215,6 @@ pub fn builtin(name: &str) -> Option<Material> {
         "calcite" => calcite(),
         "quartz" => quartz(),
         "sapphire" => sapphire(),
-        _ => return None,
+        gem => return super::gems::gem(gem, sapphire),
     })
 }

@@ -18,6 +18,14 @@ pub enum Dispersion {
     /// `n² = a + Σ B_i λ² / (λ² − λ_i²)`, λ in µm, terms `(B_i, λ_i)` with
     /// `λ_i` in µm.
     SellmeierPoles { a: f64, terms: Vec<(f64, f64)> },
+    /// Sellmeier with an infrared term (Bond 1965's and the Handbook of
+    /// Optics' form): `n² = a + Σ B_i λ² / (λ² − C_i) − ir λ²`, λ in µm,
+    /// `C_i` in µm², `ir` in µm⁻².
+    SellmeierIr {
+        a: f64,
+        terms: Vec<(f64, f64)>,
+        ir: f64,
+    },
     /// Cauchy: `n = a + b / λ² + c / λ⁴`, λ in µm (b in µm², c in µm⁴).
     Cauchy { a: f64, b: f64, c: f64 },
     /// The form of Edlén, Peck & Reeder and Ciddor for gases:
@@ -55,6 +63,10 @@ impl Dispersion {
                 let n2 = a + terms.iter().map(|&(b, c)| b * l2 / (l2 - c)).sum::<f64>();
                 n2.sqrt()
             }
+            Dispersion::SellmeierIr { a, terms, ir } => {
+                let n2 = a + terms.iter().map(|&(b, c)| b * l2 / (l2 - c)).sum::<f64>() - ir * l2;
+                n2.sqrt()
+            }
             Dispersion::SellmeierPoles { a, terms } => {
                 let n2 = a + terms
                     .iter()
@@ -77,6 +89,9 @@ impl Dispersion {
             Dispersion::Sellmeier { terms, .. }
             | Dispersion::SellmeierPoles { terms, .. }
             | Dispersion::Gas { terms, .. } => terms.iter().all(|&(b, _)| b == 0.0),
+            Dispersion::SellmeierIr { terms, ir, .. } => {
+                *ir == 0.0 && terms.iter().all(|&(b, _)| b == 0.0)
+            }
             Dispersion::Cauchy { b, c, .. } => *b == 0.0 && *c == 0.0,
         }
     }
@@ -90,6 +105,10 @@ impl Dispersion {
             | Dispersion::Gas { a, terms } => std::iter::once(*a)
                 .chain(terms.iter().flat_map(|&(b, c)| [b, c]))
                 .collect(),
+            Dispersion::SellmeierIr { a, terms, ir } => [*a, *ir]
+                .into_iter()
+                .chain(terms.iter().flat_map(|&(b, c)| [b, c]))
+                .collect(),
             Dispersion::Cauchy { a, b, c } => vec![*a, *b, *c],
         }
     }
@@ -100,7 +119,9 @@ impl Dispersion {
             return None;
         }
         match self {
-            Dispersion::Sellmeier { .. } => (c > 0.0).then(|| c.sqrt()),
+            Dispersion::Sellmeier { .. } | Dispersion::SellmeierIr { .. } => {
+                (c > 0.0).then(|| c.sqrt())
+            }
             Dispersion::SellmeierPoles { .. } => (c != 0.0).then(|| c.abs()),
             Dispersion::Gas { .. } => (c > 0.0).then(|| 1.0 / c.sqrt()),
             Dispersion::Constant(_) | Dispersion::Cauchy { .. } => None,
@@ -117,6 +138,7 @@ impl Dispersion {
         let terms: &[(f64, f64)] = match self {
             Dispersion::Sellmeier { terms, .. }
             | Dispersion::SellmeierPoles { terms, .. }
+            | Dispersion::SellmeierIr { terms, .. }
             | Dispersion::Gas { terms, .. } => terms,
             Dispersion::Constant(_) | Dispersion::Cauchy { .. } => &[],
         };

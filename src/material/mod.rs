@@ -5,9 +5,12 @@
 //! [`Dispersion`] of wavelength. At one wavelength it becomes an
 //! [`optics::Medium`](crate::optics::Medium), what the interface solver sees.
 
+pub mod absorption;
 pub mod catalog;
 pub mod dispersion;
+pub mod gems;
 
+pub use absorption::{Absorption, Curve};
 pub use catalog::{builtin, BUILTIN_NAMES};
 pub use dispersion::Dispersion;
 
@@ -33,6 +36,8 @@ pub enum Optics {
 pub struct Material {
     name: String,
     optics: Optics,
+    /// What the medium absorbs (`None`: nothing, the colourless case).
+    absorption: Option<Absorption>,
 }
 
 impl Material {
@@ -44,6 +49,7 @@ impl Material {
         Ok(Material {
             name,
             optics: Optics::Isotropic { n },
+            absorption: None,
         })
     }
 
@@ -66,6 +72,7 @@ impl Material {
                 n_e,
                 axis: DVec3::Z,
             },
+            absorption: None,
         })
     }
 
@@ -128,9 +135,40 @@ impl Material {
         builtin(spec).ok_or_else(|| {
             format!(
                 "unknown material `{spec}`: use one of {}, or `iso:N`, or `uniaxial:NO:NE`",
-                BUILTIN_NAMES.join(", ")
+                catalog::known_names().join(", ")
             )
         })
+    }
+
+    /// The same material absorbing as `absorption` says (`None`, or
+    /// curves that are zero everywhere: colourless). Fails for an invalid
+    /// curve, and for an isotropic material whose `o` and `e` curves
+    /// differ.
+    pub fn with_absorption(mut self, absorption: Option<Absorption>) -> Result<Self, String> {
+        if let Some(a) = &absorption {
+            a.validate()
+                .map_err(|e| format!("{}: absorption: {e}", self.name))?;
+            if !self.is_uniaxial() && a.o != a.e {
+                return Err(format!(
+                    "{} is isotropic: it has one absorption coefficient, not an ordinary and an \
+                     extraordinary one",
+                    self.name
+                ));
+            }
+        }
+        self.absorption = absorption.filter(|a| !a.is_zero());
+        Ok(self)
+    }
+
+    /// The same material under another name.
+    pub fn renamed(mut self, name: impl Into<String>) -> Self {
+        self.name = name.into();
+        self
+    }
+
+    /// What the medium absorbs, `None` when it absorbs nothing.
+    pub fn absorption(&self) -> Option<&Absorption> {
+        self.absorption.as_ref()
     }
 
     /// The material's name (the built-in name, or the text it was parsed

@@ -29,6 +29,7 @@
 //! the bundled image equals the exact tree's. The physical model's o/e
 //! interference needs the exact tree; the settings refuse the combination.
 
+use super::absorb::depth as absorb_depth;
 use super::integrator::{feeder_side, max_gain, Query, Region, Stats, Traced, Tracer};
 use super::integrator::{Node, WavelengthMedia};
 use super::sampling::SampleKey;
@@ -44,6 +45,8 @@ struct Member {
     origin: DVec3,
     dir: DVec3,
     kind: WaveKind,
+    /// The surface point `origin` is a little off.
+    anchor: DVec3,
 }
 
 /// A backward query for both eigenwaves of a crystal (member 0 the
@@ -69,7 +72,7 @@ impl Bundle {
     /// into `region`.
     fn query(
         &self,
-        origin: DVec3,
+        (origin, anchor): (DVec3, DVec3),
         f: &Feeder,
         region: Region,
         throughput: f64,
@@ -77,6 +80,7 @@ impl Bundle {
     ) -> Query {
         Query {
             origin,
+            anchor,
             dir: -f.wave.ray,
             region,
             kind: f.wave.kind,
@@ -167,6 +171,7 @@ impl Tracer<'_> {
                 origin,
                 dir: -f.wave.ray,
                 kind: f.wave.kind,
+                anchor: point,
             };
             let b = Bundle {
                 members: [member(fo), member(fe)],
@@ -257,6 +262,28 @@ impl Tracer<'_> {
         }
         out.iter_mut().for_each(|o| *o = Coherence::zero(2));
         let media = &batch[0];
+        // In an absorbing crystal: each member's segment weights, and its
+        // pruning bound lowered by the most its segment keeps.
+        let absorbed = self.absorbing(region).and_then(|object| {
+            let w = |m: &Member, t: &Traced| {
+                let (ray, hit) = (t.ray.as_ref()?, t.hit.as_ref()?);
+                Some(self.segment_weights(object, m.kind, m.anchor, m.dir, ray, hit, media))
+            };
+            Some((object, [w(&mo, &to)?, w(&me, &te)?]))
+        });
+        let attenuated;
+        let b = match absorbed {
+            Some((object, w)) => {
+                attenuated = Bundle {
+                    throughput: std::array::from_fn(|a| {
+                        b.throughput[a] * self.kept_at_most(object, w[a], batch)
+                    }),
+                    ..*b
+                };
+                &attenuated
+            }
+            None => b,
+        };
         let Traced { ray, hit, .. } = to;
         let node_o = self.node(ray, hit, region, mo.kind, mo.dir, b.depth, media, stats);
         let Traced { ray, hit, .. } = te;
@@ -331,6 +358,7 @@ impl Tracer<'_> {
                         origin: node.ray.at(node.hit.t) + self.epsilon(node.hit.geom) * node.normal,
                         dir: -f.wave.ray,
                         kind: f.wave.kind,
+                        anchor: node.ray.at(node.hit.t),
                     };
                     let child = Bundle {
                         members: [member(&node_o, fo), member(&node_e, fe)],
@@ -369,10 +397,22 @@ impl Tracer<'_> {
                     continue;
                 }
                 let (region, offset) = feeder_side(f.wave.side, region, node.other, node.normal);
-                let origin = node.ray.at(node.hit.t) + self.epsilon(node.hit.geom) * offset;
+                let anchor = node.ray.at(node.hit.t);
+                let origin = anchor + self.epsilon(node.hit.geom) * offset;
                 let path = b.path.wrapping_mul(4).wrapping_add(2 + i as u64);
-                let q = b.query(origin, f, region, throughput, path);
+                let q = b.query((origin, anchor), f, region, throughput, path);
                 self.add_exact(&q, f, a, batch, key, out, scratch, stats);
+            }
+        }
+        // Beer–Lambert along each member's segment: its mode's amplitude
+        // keeps exp(−τ/2), D J Dᴴ with D = diag(e^{−τ_o/2}, e^{−τ_e/2}).
+        if let Some((object, w)) = absorbed {
+            for (o, m) in out.iter_mut().zip(batch) {
+                let alpha = m.absorption[object as usize];
+                let amp = |w| Complex64::new((-0.5 * absorb_depth(w, alpha)).exp(), 0.0);
+                let zero = Complex64::new(0.0, 0.0);
+                let d = Jones::from_entries(2, 2, [[amp(w[0]), zero], [zero, amp(w[1])]]);
+                *o = o.transform(&d);
             }
         }
     }
@@ -394,7 +434,8 @@ impl Tracer<'_> {
     ) {
         let n = out.len();
         let list = node.feeders.as_slice();
-        let origin = node.ray.at(node.hit.t) + self.epsilon(node.hit.geom) * node.normal;
+        let anchor = node.ray.at(node.hit.t);
+        let origin = anchor + self.epsilon(node.hit.geom) * node.normal;
         let (child_out, deeper) = scratch.split_at_mut(n);
         if let Some((io, ie)) = eigenwave_pair(list, Side::Plus) {
             let (fo, fe) = (&list[io], &list[ie]);
@@ -410,6 +451,7 @@ impl Tracer<'_> {
                 origin,
                 dir: -f.wave.ray,
                 kind: f.wave.kind,
+                anchor,
             };
             let child = Bundle {
                 members: [member(fo), member(fe)],
@@ -436,7 +478,13 @@ impl Tracer<'_> {
                 continue;
             }
             let path = b.path.wrapping_mul(8).wrapping_add(i as u64);
-            let q = b.query(origin, f, Region::Inside(b.object), throughput, path);
+            let q = b.query(
+                (origin, anchor),
+                f,
+                Region::Inside(b.object),
+                throughput,
+                path,
+            );
             self.add_exact(&q, f, a, batch, key, out, scratch, stats);
         }
     }
@@ -494,6 +542,7 @@ impl Tracer<'_> {
                 throughput: b.throughput[a],
                 path: b.path.wrapping_mul(2).wrapping_add(a as u64),
                 drift: b.drift,
+                anchor: m.anchor,
             };
             let (member_out, deeper) = scratch.split_at_mut(n);
             // A member's own wave has one mode: its basis is unused.

@@ -28,6 +28,7 @@
 //! the band's temporal coherence (`sinc(π ΔL Δλ / λ²)` for a flat band Δλ
 //! wide). Groups are found by sorting, not by comparing every pair.
 
+use super::absorb;
 use super::integrator::{
     feeder_side, max_gain, Node, Region, Stats, Traced, Tracer, WavelengthMedia,
 };
@@ -80,7 +81,13 @@ struct Leaf {
     /// across `k` divided by the distance (the projected parallelogram's
     /// angular edge vectors, radians).
     extent: [DVec3; 2],
+    /// The intensity the path keeps through absorbing media, per
+    /// wavelength: an entry of [`Scratch::kept`] (`UNABSORBED`: all).
+    kept: u32,
 }
+
+/// A path that crossed no absorbing medium.
+const UNABSORBED: u32 = u32::MAX;
 
 /// One backward ray of the coherent walk.
 #[derive(Clone, Copy, Debug)]
@@ -105,6 +112,19 @@ struct Path {
     opl: f64,
     /// Camera basis ← the modes of the basis this ray was asked in.
     a: Jones,
+    /// The intensity kept through absorbing media so far, per
+    /// wavelength (an entry of [`Scratch::kept`], or `UNABSORBED`).
+    kept: u32,
+}
+
+/// What every backward ray of one camera sample's walk shares: the
+/// wavelengths, the sample's random numbers, and where its leaves and
+/// their absorption go.
+struct Walk<'b> {
+    batch: &'b [WavelengthMedia],
+    key: &'b SampleKey,
+    leaves: &'b mut Vec<Leaf>,
+    kept: &'b mut Vec<f64>,
 }
 
 thread_local! {
@@ -124,6 +144,11 @@ struct Scratch {
     members: Vec<u32>,
     /// The coherence matrix at each wavelength being summed.
     acc: Vec<[[Complex64; 2]; 2]>,
+    /// Entries of one value per wavelength of the batch: the fraction of
+    /// intensity a path keeps through the absorbing media it crossed
+    /// (Beer–Lambert, docs/physics.md §11); a path's amplitude keeps its
+    /// square root. Appended as paths cross absorbing segments.
+    kept: Vec<f64>,
 }
 
 impl Scratch {
@@ -134,6 +159,7 @@ impl Scratch {
             group_of: Vec::new(),
             members: Vec::new(),
             acc: Vec::new(),
+            kept: Vec::new(),
         }
     }
 }
@@ -204,6 +230,7 @@ impl Tracer<'_> {
         SCRATCH.with(|cell| {
             let scratch = &mut *cell.borrow_mut();
             scratch.leaves.clear();
+            scratch.kept.clear();
             let root = Path {
                 origin,
                 anchor: origin,
@@ -216,8 +243,15 @@ impl Tracer<'_> {
                 k: -dir,
                 opl: 0.0,
                 a: Jones::identity(2),
+                kept: UNABSORBED,
             };
-            self.walk(&root, &basis, &batch[0], key, &mut scratch.leaves, stats);
+            let mut walk = Walk {
+                batch,
+                key,
+                leaves: &mut scratch.leaves,
+                kept: &mut scratch.kept,
+            };
+            self.walk(&root, &basis, &mut walk, stats);
             stats.coherent += self.sum_leaves(scratch, batch, out);
         });
     }
@@ -225,21 +259,35 @@ impl Tracer<'_> {
     /// Follows one backward ray, pushing a leaf for every path that reaches
     /// a light. `basis` is the basis the ray's wave was asked in.
     #[allow(clippy::too_many_arguments)]
-    fn walk(
-        &self,
-        p: &Path,
-        basis: &[DVec3; 2],
-        media: &WavelengthMedia,
-        key: &SampleKey,
-        leaves: &mut Vec<Leaf>,
-        stats: &mut Stats,
-    ) {
+    fn walk(&self, p: &Path, basis: &[DVec3; 2], w: &mut Walk<'_>, stats: &mut Stats) {
         stats.rays += 1;
         let Some(Traced { ray, hit, t_hit }) = self.trace(p.origin, p.dir, stats) else {
             return;
         };
-        if p.region == Region::Ambient && self.reach_light(p, basis, t_hit, leaves) {
+        if p.region == Region::Ambient && self.reach_light(p, basis, t_hit, w.leaves) {
             return;
+        }
+        let media = &w.batch[0];
+        // Inside an absorbing object: the fraction of intensity the path
+        // keeps at each wavelength after this segment (appended to
+        // `w.kept`), and the pruning bound lowered by the most it keeps.
+        let mut kept = p.kept;
+        let mut throughput_here = p.throughput;
+        if let (Some(object), Some(r), Some(h)) = (self.absorbing(p.region), &ray, &hit) {
+            let weights = self.segment_weights(object, p.kind, p.anchor, p.dir, r, h, media);
+            let n = w.batch.len();
+            let entry = w.kept.len();
+            for (i, m) in w.batch.iter().enumerate() {
+                let before = if p.kept == UNABSORBED {
+                    1.0
+                } else {
+                    w.kept[p.kept as usize * n + i]
+                };
+                let after = before * (-absorb::depth(weights, m.absorption[object as usize])).exp();
+                w.kept.push(after);
+            }
+            kept = (entry / n) as u32;
+            throughput_here *= self.kept_at_most(object, weights, w.batch);
         }
         let Some(Node {
             ray,
@@ -276,10 +324,11 @@ impl Tracer<'_> {
         let gains: [f64; 4] =
             std::array::from_fn(|i| list.get(i).map_or(0.0, |f| max_gain(&f.block)));
 
-        let (sampled, (chosen, n_chosen)) = self.choose(&gains, list.len(), p.depth, p.branch, key);
+        let (sampled, (chosen, n_chosen)) =
+            self.choose(&gains, list.len(), p.depth, p.branch, w.key);
         for &(i, weight) in &chosen[..n_chosen] {
             let f = &list[i];
-            let throughput = p.throughput * gains[i];
+            let throughput = throughput_here * gains[i];
             if throughput < self.settings.prune {
                 stats.pruned += 1;
                 continue;
@@ -310,8 +359,9 @@ impl Tracer<'_> {
                 k: f.wave.k,
                 opl,
                 a,
+                kept,
             };
-            self.walk(&child, &f.wave.basis, media, key, leaves, stats);
+            self.walk(&child, &f.wave.basis, w, stats);
         }
     }
 
@@ -363,6 +413,7 @@ impl Tracer<'_> {
             point: p.anchor,
             st,
             extent,
+            kept: p.kept,
         });
         true
     }
@@ -382,6 +433,7 @@ impl Tracer<'_> {
             group_of,
             members,
             acc,
+            kept,
         } = scratch;
         let mut coherent = 0;
         acc.clear();
@@ -420,7 +472,7 @@ impl Tracer<'_> {
             if members.len() > 1 {
                 coherent += members.len() as u64;
             }
-            self.add_group(leaves, members, batch, acc);
+            self.add_group(leaves, members, kept, batch, acc);
         }
         for (o, a) in out.iter_mut().zip(acc.iter()) {
             *o = Coherence::from_matrix(*a);
@@ -434,6 +486,7 @@ impl Tracer<'_> {
         &self,
         leaves: &[Leaf],
         members: &[u32],
+        kept: &[f64],
         batch: &[WavelengthMedia],
         acc: &mut [[[Complex64; 2]; 2]],
     ) {
@@ -455,23 +508,35 @@ impl Tracer<'_> {
             }
         };
         let j_l = state.matrix();
-        let radiance = |leaf: &Leaf, lambda: f64| -> f64 {
-            match leaf.source {
-                Source::Background => match &scene.environment {
-                    Some(env) => env.spectral_radiance(leaf.k, lambda),
-                    None => scene.background * crate::spectrum::cie::d65(lambda),
-                },
-                Source::Area(i) => {
-                    scene.lights[i as usize].spectral_radiance(leaf.st.0, leaf.st.1, lambda)
+        // The radiance a leaf brings at wavelength `i` of the batch, times
+        // the intensity its path keeps through absorbing media (so a pair's
+        // √(l_i l_j) carries each amplitude's e^{−τ/2}).
+        let n = batch.len();
+        let radiance = |leaf: &Leaf, i: usize, lambda: f64| -> f64 {
+            let through = if leaf.kept == UNABSORBED {
+                1.0
+            } else {
+                kept[leaf.kept as usize * n + i]
+            };
+            through
+                * match leaf.source {
+                    Source::Background => match &scene.environment {
+                        Some(env) => env.spectral_radiance(leaf.k, lambda),
+                        None => scene.background * crate::spectrum::cie::d65(lambda),
+                    },
+                    Source::Area(i) => {
+                        scene.lights[i as usize].spectral_radiance(leaf.st.0, leaf.st.1, lambda)
+                    }
+                    Source::Distant(i) => {
+                        scene.distant_lights[i as usize].spectral_radiance(lambda)
+                    }
                 }
-                Source::Distant(i) => scene.distant_lights[i as usize].spectral_radiance(lambda),
-            }
         };
         let unit = scene.unit_nm;
-        for (m, a) in batch.iter().zip(acc.iter_mut()) {
+        for (w, (m, a)) in batch.iter().zip(acc.iter_mut()).enumerate() {
             let lambda = m.lambda_nm;
             if members.len() == 1 {
-                let l = radiance(first, lambda);
+                let l = radiance(first, w, lambda);
                 if l == 0.0 {
                     continue;
                 }
@@ -486,7 +551,7 @@ impl Tracer<'_> {
             let k0 = 2.0 * std::f64::consts::PI / lambda;
             for (ii, &i) in members.iter().enumerate() {
                 let li = &leaves[i as usize];
-                let ri = radiance(li, lambda);
+                let ri = radiance(li, w, lambda);
                 if ri == 0.0 {
                     continue;
                 }
@@ -498,7 +563,7 @@ impl Tracer<'_> {
                 }
                 for &j in &members[ii + 1..] {
                     let lj = &leaves[j as usize];
-                    let rj = radiance(lj, lambda);
+                    let rj = radiance(lj, w, lambda);
                     if rj == 0.0 {
                         continue;
                     }

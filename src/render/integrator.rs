@@ -44,6 +44,7 @@ use crate::accel::{Hit, Intersector, Ray};
 use crate::optics::backward::Feeders;
 use crate::optics::modes::{Side, WaveKind};
 use crate::optics::{Coherence, Interface, Jones, Medium};
+use crate::render::absorb;
 use crate::render::approx::{Branching, CoherenceModel, PolarizationModel, Strategy};
 use crate::render::sampling::{dim, SampleKey};
 use crate::render::world::Scene;
@@ -87,6 +88,9 @@ pub struct Stats {
     /// Bundles whose members parted (different facets, or farther apart
     /// than the tolerance) and continued as exact rays.
     pub splits: u64,
+    /// Camera samples taken (pixels × samples, fewer with adaptive
+    /// sampling).
+    pub samples: u64,
 }
 
 /// Lost rays by cause. Rays stopped by the depth limit are not lost light
@@ -133,6 +137,7 @@ impl std::ops::AddAssign for Stats {
         self.coherent += o.coherent;
         self.bundled += o.bundled;
         self.splits += o.splits;
+        self.samples += o.samples;
     }
 }
 
@@ -240,6 +245,10 @@ pub struct WavelengthMedia {
     /// (0: one wavelength, fully coherent): cross terms between coherent
     /// paths are weighted by the band's coherence (docs/physics.md §9.4).
     pub band_nm: f64,
+    /// Each object's absorption coefficients `[α_o, α_e]` at `lambda_nm`
+    /// (the emission's wavelength, not the geometry's), per scene unit
+    /// (docs/physics.md §11); zeros for a colourless object.
+    pub absorption: Vec<[f64; 2]>,
 }
 
 impl WavelengthMedia {
@@ -255,6 +264,19 @@ impl WavelengthMedia {
         WavelengthMedia {
             lambda_nm,
             band_nm: 0.0,
+            absorption: scene
+                .objects
+                .iter()
+                .map(|o| {
+                    o.material.absorption().map_or([0.0; 2], |a| {
+                        // Coefficients are per mm; one scene unit is
+                        // `unit_nm` nm.
+                        let (a_o, a_e) = a.per_mm(lambda_nm);
+                        let mm = scene.unit_nm * 1e-6;
+                        [a_o * mm, a_e * mm]
+                    })
+                })
+                .collect(),
             objects: scene
                 .objects
                 .iter()
@@ -330,6 +352,8 @@ pub struct Tracer<'a> {
     /// A sphere (centre, radius) around every object: rays from outside it
     /// are started on it.
     bounds: Option<(DVec3, f64)>,
+    /// Which objects absorb (the rest skip Beer–Lambert altogether).
+    absorbing: Vec<bool>,
 }
 
 /// One backward ray: the forward wave of `kind` that arrives at `origin`
@@ -350,6 +374,9 @@ pub(super) struct Query {
     /// exact ray, from waves that bundles carried on another wave's ray
     /// (render::bundle; 0 without bundles).
     pub drift: f64,
+    /// The surface point the segment leaves (`origin` is a little off
+    /// it): where an absorbing segment's length is measured from.
+    pub anchor: DVec3,
 }
 
 /// Largest squared singular value of a Jones block: the most intensity it
@@ -415,6 +442,11 @@ impl<'a> Tracer<'a> {
             // 50 nm offset however far away another object stands (with
             // the scene's extent it stepped through the film).
             epsilon: reach.iter().map(|r| 1e-5 * r.max(1e-30)).collect(),
+            absorbing: scene
+                .objects
+                .iter()
+                .map(|o| o.material.absorption().is_some())
+                .collect(),
         }
     }
 
@@ -424,6 +456,50 @@ impl<'a> Tracer<'a> {
     #[inline]
     pub(super) fn epsilon(&self, object: u32) -> f64 {
         self.epsilon[object as usize]
+    }
+
+    /// The object `region` is inside when it absorbs, else `None`.
+    #[inline]
+    pub(super) fn absorbing(&self, region: Region) -> Option<u32> {
+        match region {
+            Region::Inside(i) if self.absorbing[i as usize] => Some(i),
+            _ => None,
+        }
+    }
+
+    /// The weights `[w_o, w_e]` of the segment of a wave of `kind` inside
+    /// absorbing object `object`, from `anchor` along `dir` to the traced
+    /// hit `hit` of `ray` (its optical depth at each wavelength is
+    /// `absorb::depth(w, media.absorption[object])`).
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn segment_weights(
+        &self,
+        object: u32,
+        kind: WaveKind,
+        anchor: DVec3,
+        dir: DVec3,
+        ray: &Ray,
+        hit: &Hit,
+        media: &WavelengthMedia,
+    ) -> [f64; 2] {
+        let normal = self.scene.objects[hit.geom as usize]
+            .mesh
+            .triangle_normal(hit.prim);
+        let length = absorb::segment_length(anchor, dir, ray.at(hit.t), normal);
+        absorb::segment_weights(&media.objects[object as usize], kind, dir, length)
+    }
+
+    /// The largest fraction of intensity a segment of weights `w` inside
+    /// `object` keeps at any wavelength of `batch` (the bound pruning
+    /// multiplies in).
+    #[inline]
+    pub(super) fn kept_at_most(&self, object: u32, w: [f64; 2], batch: &[WavelengthMedia]) -> f64 {
+        let least = batch
+            .iter()
+            .map(|m| absorb::depth(w, m.absorption[object as usize]))
+            .fold(f64::INFINITY, f64::min);
+        (-least).exp()
     }
 
     /// How many pixel footprints apart a bundle's members may be and
@@ -523,6 +599,7 @@ impl<'a> Tracer<'a> {
             throughput: 1.0,
             path: 0,
             drift: 0.0,
+            anchor: origin,
         };
         // One slot of `batch` matrices per level of the tree below the root
         // (twice that with bundles: a bundle that splits hands its members
@@ -822,6 +899,26 @@ impl<'a> Tracer<'a> {
                 return;
             }
         }
+        // Inside an absorbing object: the segment's weights, and the bound
+        // the subtree's pruning uses lowered by the most it keeps.
+        let absorbed = match (self.absorbing(q.region), &ray, &hit) {
+            (Some(object), Some(r), Some(h)) => {
+                let w = self.segment_weights(object, q.kind, q.anchor, q.dir, r, h, &batch[0]);
+                Some((object, w))
+            }
+            _ => None,
+        };
+        let attenuated;
+        let q = match absorbed {
+            Some((object, w)) => {
+                attenuated = Query {
+                    throughput: q.throughput * self.kept_at_most(object, w, batch),
+                    ..*q
+                };
+                &attenuated
+            }
+            None => q,
+        };
         let Some(Node {
             ray,
             hit,
@@ -888,6 +985,7 @@ impl<'a> Tracer<'a> {
                     q.path.wrapping_mul(4).wrapping_add(i as u64 + 1)
                 },
                 drift: q.drift,
+                anchor: point,
             };
             let (child_out, deeper) = scratch.split_at_mut(n);
             self.radiance(&child, &f.wave.basis, batch, key, child_out, deeper, stats);
@@ -908,6 +1006,12 @@ impl<'a> Tracer<'a> {
         if modes == 2 && !scalar {
             for o in out.iter_mut() {
                 *o = o.change_basis(&target.basis, basis);
+            }
+        }
+        // Beer–Lambert along this segment: exp(−τ(λ)) of the intensity.
+        if let Some((object, w)) = absorbed {
+            for (o, m) in out.iter_mut().zip(batch) {
+                *o = *o * (-absorb::depth(w, m.absorption[object as usize])).exp();
             }
         }
     }

@@ -14,6 +14,8 @@
 //! depends on the thread count, the tile size, the region or the sample
 //! blocks a render is split into.
 
+mod absorb;
+pub mod adaptive;
 pub mod approx;
 pub mod blocks;
 pub mod bundle;
@@ -32,6 +34,7 @@ pub mod world;
 
 use crate::accel::Intersector;
 use crate::optics::Coherence;
+use adaptive::{NoiseMeasure, PixelNoise};
 use approx::{Approximations, DispersionMode};
 use blocks::{Accumulator, Node, SampleRange};
 use film::Film;
@@ -63,6 +66,8 @@ pub struct RenderOptions {
     /// modes' set, which [`approx::Spectral::Hero`] thins out; the others
     /// (a single-wavelength mode's) are traced for every sample.
     pub colour_lambdas: usize,
+    /// Adaptive sampling (off: every pixel takes `samples` samples).
+    pub adaptive: adaptive::Adaptive,
 }
 
 /// The wavelengths of a render grouped by the geometry they share, with
@@ -286,7 +291,9 @@ pub fn render(scene: &Scene, accel: &dyn Intersector, opts: &RenderOptions) -> (
 }
 
 /// Renders one unit of work. `spec` must fit the camera's image and
-/// `spec.samples.total` should be `opts.samples`.
+/// `spec.samples.total` should be `opts.samples`; with adaptive sampling
+/// on, `spec.samples` must be every sample (a pixel decides from all its
+/// samples; callers refuse sample blocks first).
 pub fn render_part(
     scene: &Scene,
     accel: &dyn Intersector,
@@ -307,6 +314,15 @@ pub fn render_part(
     let tracer = Tracer::new(scene, accel, opts.tree).with_strategy(opts.approx.strategy);
     let nch = opts.lambdas.len() * 4;
     let nodes = spec.samples.nodes();
+    let measure = opts.adaptive.is_on().then(|| {
+        assert!(
+            spec.samples.is_all(),
+            "adaptive sampling needs every sample of a pixel in one part, not {}",
+            spec.samples.label()
+        );
+        NoiseMeasure::for_render(&scene.settings.wavelengths, &opts.lambdas, colour)
+    });
+    let total = spec.samples.total;
     let grid = tiles(spec.region, control.tile_size);
     let total_tiles = grid.len();
 
@@ -357,10 +373,15 @@ pub fn render_part(
             let mut data = vec![0.0f32; nodes.len() * npix * nch];
             let mut acc = Accumulator::new(nch);
             let mut out = vec![Coherence::zero(2); opts.lambdas.len()];
+            let mut noise = PixelNoise::default();
             let mut p = 0;
             for y in tile.y0..tile.y1 {
                 for x in tile.x0..tile.x1 {
                     acc.clear();
+                    noise.clear();
+                    // Samples this pixel took when adaptive sampling
+                    // stopped it early.
+                    let mut stopped_at = None;
                     for sample in spec.samples.start..spec.samples.end {
                         let key = SampleKey {
                             seed: opts.seed,
@@ -408,15 +429,43 @@ pub fn render_part(
                                     ]);
                                 }
                             }
+                            if let Some(m) = &measure {
+                                noise.push(m, v);
+                            }
                         });
+                        if let Some(m) = &measure {
+                            let taken = sample + 1;
+                            if opts.adaptive.checks_at(taken, total)
+                                && noise.error(m) <= opts.adaptive.noise
+                            {
+                                stopped_at = Some(taken);
+                                break;
+                            }
+                        }
                     }
-                    if spec.samples.end == spec.samples.total {
-                        acc.finish(spec.samples.total);
-                    }
-                    debug_assert_eq!(acc.nodes(), &nodes[..]);
-                    for (j, v) in acc.values().chunks_exact(nch).enumerate() {
-                        let at = (j * npix + p) * nch;
-                        data[at..at + nch].copy_from_slice(v);
+                    let taken = stopped_at.unwrap_or(spec.samples.count());
+                    stats.samples += taken as u64;
+                    match stopped_at {
+                        // The mean of the samples taken, stored as the
+                        // sum of `total` (rounded once).
+                        Some(taken) => {
+                            acc.finish(taken);
+                            let scale = total as f64 / taken as f64;
+                            let at = p * nch;
+                            for (d, &v) in data[at..at + nch].iter_mut().zip(acc.values()) {
+                                *d = (v as f64 * scale) as f32;
+                            }
+                        }
+                        None => {
+                            if spec.samples.end == total {
+                                acc.finish(total);
+                            }
+                            debug_assert_eq!(acc.nodes(), &nodes[..]);
+                            for (j, v) in acc.values().chunks_exact(nch).enumerate() {
+                                let at = (j * npix + p) * nch;
+                                data[at..at + nch].copy_from_slice(v);
+                            }
+                        }
                     }
                     p += 1;
                 }

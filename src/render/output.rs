@@ -36,6 +36,12 @@
 //!   ideal linear polarizers at 0°, 45°, 90° and 135° from image right
 //!   toward image up (the Stokes frame's angles), at one wavelength:
 //!   I(θ) = ½(S0 + S1 cos 2θ + S2 sin 2θ) ([`polarizer`]).
+//! - `dichroscope`: what a gemmologist's dichroscope shows, two colour
+//!   images side by side, the light behind an ideal linear polarizer
+//!   along image right (left half) and along image up (right half). A
+//!   dichroic stone whose optic axis lies along image right shows its
+//!   extraordinary colour (field along the axis) on the left and its
+//!   ordinary colour on the right ([`DICHROSCOPE_ANGLES`]).
 //! - `polcam-mosaic`: the same intensities as the 2×2 micro-polarizer
 //!   mosaic of a Sony IMX250MZR-type sensor, one image of the film's size
 //!   ([`MOSAIC`], [`mosaic_angle`]).
@@ -75,6 +81,7 @@ pub enum OutputMode {
     PolvisLin,
     PolvisCir,
     Sheet,
+    Dichroscope,
 }
 
 /// A false-colour map of the field's conventions: the colour of each
@@ -281,6 +288,10 @@ pub fn stokes_channel(component: usize, nm: f64) -> String {
     format!("S{component}.{}nm", format!("{nm}").replace('.', ","))
 }
 
+/// The polarizer angles of `dichroscope`'s left and right halves,
+/// degrees from image right toward image up.
+pub const DICHROSCOPE_ANGLES: [u32; 2] = [0, 90];
+
 /// The polarizer angles of `polcam`'s four images, degrees from image
 /// right toward image up, in the order of its files.
 pub const POLCAM_ANGLES: [u32; 4] = [0, 45, 90, 135];
@@ -338,6 +349,7 @@ impl OutputMode {
             OutputMode::PolvisLin => "polvis-lin",
             OutputMode::PolvisCir => "polvis-cir",
             OutputMode::Sheet => "sheet",
+            OutputMode::Dichroscope => "dichroscope",
         }
     }
 
@@ -396,7 +408,10 @@ impl OutputMode {
     pub fn is_spectral(self) -> bool {
         matches!(
             self,
-            OutputMode::Color | OutputMode::Stokes | OutputMode::StokesRgb
+            OutputMode::Color
+                | OutputMode::Stokes
+                | OutputMode::StokesRgb
+                | OutputMode::Dichroscope
         )
     }
 
@@ -411,7 +426,10 @@ impl OutputMode {
     /// and `stokes`); `color` and `stokes-rgb` integrate the colour
     /// wavelengths and never use it.
     pub fn uses_wavelength(self) -> bool {
-        !matches!(self, OutputMode::Color | OutputMode::StokesRgb)
+        !matches!(
+            self,
+            OutputMode::Color | OutputMode::StokesRgb | OutputMode::Dichroscope
+        )
     }
 
     /// True for the modes whose file holds float values rather than a
@@ -607,6 +625,36 @@ pub fn develop(
         .map_err(|e: ImageError| e.to_string())
     };
     match mode {
+        OutputMode::Dichroscope => {
+            // Two colour images, each pixel's spectrum the intensity behind
+            // the half's polarizer (Malus, [`polarizer`]), side by side.
+            let (observer, idx) = colour_indices(film, colour).ok_or_else(|| {
+                "the dichroscope mode needs the colour wavelengths in the film".to_string()
+            })?;
+            let mut out = vec![0.0f32; 2 * npix * 3];
+            let mut radiance = vec![0.0; idx.len()];
+            for y in 0..h {
+                for x in 0..w {
+                    for (half, &angle) in DICHROSCOPE_ANGLES.iter().enumerate() {
+                        for (r, &i) in radiance.iter_mut().zip(&idx) {
+                            *r = polarizer(film.stokes(x, y, i), angle);
+                        }
+                        let c = observer.linear_srgb(&radiance);
+                        let at = 3 * (y as usize * 2 * w as usize + half * w as usize + x as usize);
+                        for (o, v) in out[at..at + 3].iter_mut().zip(c) {
+                            *o = finite(srgb::encode(v.max(0.0)));
+                        }
+                    }
+                }
+            }
+            Image::new(
+                2 * w as usize,
+                h as usize,
+                vec!["R".into(), "G".into(), "B".into()],
+                out,
+            )
+            .map_err(|e: ImageError| e.to_string())
+        }
         OutputMode::Color => {
             let observer = Observer::new(colour).map_err(|e| e.to_string())?;
             let idx: Vec<usize> = colour

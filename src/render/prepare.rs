@@ -157,6 +157,7 @@ pub fn options_at(scene: &Scene, lambdas: Vec<f64>) -> RenderOptions {
         seed: scene.settings.seed,
         progress: false,
         approx: scene.settings.approx,
+        adaptive: scene.settings.adaptive,
     }
 }
 

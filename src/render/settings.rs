@@ -7,6 +7,7 @@
 //! as `FILE:LINE: render.max_depth: must be at most 1000`, a flag as
 //! `--max-depth must be at most 1000`.
 
+use super::adaptive::Adaptive;
 use super::approx::{
     Approximations, Branching, CoherenceModel, DispersionMode, PolarizationModel, Spectral,
 };
@@ -84,6 +85,10 @@ pub struct SettingsLayer {
     pub coherence: Option<Set<CoherenceModel>>,
     /// o/e bundle tolerance in pixel footprints (0: the exact tree).
     pub bundle: Option<Set<f64>>,
+    /// Adaptive sampling's noise target (0: off; render::adaptive).
+    pub adaptive: Option<Set<f64>>,
+    /// Samples before adaptive sampling's first check.
+    pub min_samples: Option<Set<u32>>,
 }
 
 /// Everything a layer can set: samples per pixel, image size and the
@@ -109,6 +114,7 @@ impl Settings {
                 prune: DEFAULT_PRUNE,
                 seed: 0,
                 approx: Approximations::default(),
+                adaptive: Adaptive::default(),
             },
         }
     }
@@ -143,6 +149,8 @@ pub enum Field {
     MaxDepth,
     Prune,
     Bundle,
+    Adaptive,
+    MinSamples,
 }
 
 /// A refused setting: where it came from, which field, and why.
@@ -277,6 +285,27 @@ impl SettingsLayer {
                 ));
             }
             s.render.approx.strategy.bundle = b.value;
+        }
+        if let Some(a) = &self.adaptive {
+            if !(a.value.is_finite() && a.value >= 0.0) {
+                return Err(err(
+                    &a.origin,
+                    Field::Adaptive,
+                    "must be a standard error in display units ≥ 0 (e.g. 0.005; 0: off)".into(),
+                ));
+            }
+            s.render.adaptive.noise = a.value;
+        }
+        if let Some(m) = &self.min_samples {
+            if m.value < 2 {
+                return Err(err(
+                    &m.origin,
+                    Field::MinSamples,
+                    "must be at least 2 (a pixel's noise is estimated from its samples' spread)"
+                        .into(),
+                ));
+            }
+            s.render.adaptive.min_samples = m.value;
         }
         Ok(())
     }

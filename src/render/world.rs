@@ -2,6 +2,7 @@
 //! their materials, lights, camera, settings). `spar::scene` reads it
 //! from scene files; the renderer only reads it.
 
+use super::adaptive::Adaptive;
 use super::approx::Approximations;
 use super::camera::Camera;
 use super::light::{DistantLight, Environment, Light};
@@ -21,6 +22,8 @@ pub struct RenderSettings {
     /// Branch strategy, polarization model, spectral sampling and
     /// dispersion (exact by default).
     pub approx: Approximations,
+    /// Adaptive sampling (off by default: every pixel takes every sample).
+    pub adaptive: Adaptive,
 }
 
 /// Defaults: 21 wavelengths, depth 30, pruning at 1e-4 of the brightest

@@ -20,6 +20,8 @@
 //! seed = 0
 //! coherence = "physical"       # or "incoherent" (every path adds as an intensity)
 //! bundle = 0                   # o and e as one ray within N pixel footprints (incoherent only)
+//! adaptive = 0                 # a pixel stops at this standard error (display units); 0: off
+//! min_samples = 32             # samples before adaptive sampling's first check
 //! units = "mm"                 # one scene unit: nm, um (µm), mm, cm or m
 //!
 //! [media.my_glass]             # custom media (optional)
@@ -28,6 +30,8 @@
 //! [media.my_crystal]
 //! n_o = 1.6584
 //! n_e = 1.4864
+//! absorption_o = 0.3               # per mm: a number, "ruby-o" (a built-in spectrum),
+//! absorption_e = { nm = [380, 780], per_mm = [0.5, 0.1] }   # or a table
 //!
 //! [[object]]
 //! mesh = "gems/trichecker12.obj"   # .obj or .asc, relative to this file, or "builtin:NAME"
@@ -311,6 +315,10 @@ pub struct RenderDef {
     pub coherence: Option<Spanned<String>>,
     /// o/e bundle tolerance, pixel footprints (render::bundle).
     pub bundle: Option<Spanned<f64>>,
+    /// Adaptive sampling's noise target (render::adaptive; 0: off).
+    pub adaptive: Option<Spanned<f64>>,
+    /// Samples before adaptive sampling's first check.
+    pub min_samples: Option<Spanned<u32>>,
     /// The length of one scene unit: `nm`, `um` (or `µm`), `mm`, `cm`, `m`.
     pub units: Option<Spanned<String>>,
 }
@@ -362,6 +370,61 @@ pub struct MediumDef {
     /// Uniaxial ordinary and extraordinary indices.
     pub n_o: Option<Spanned<DispersionDef>>,
     pub n_e: Option<Spanned<DispersionDef>>,
+    /// Absorption per mm for every wave (isotropic media, or a crystal
+    /// that absorbs both waves alike).
+    pub absorption: Option<Spanned<AbsorptionDef>>,
+    /// A crystal's absorption per mm for a field normal to the optic axis
+    /// (the ordinary wave) and along it.
+    pub absorption_o: Option<Spanned<AbsorptionDef>>,
+    pub absorption_e: Option<Spanned<AbsorptionDef>>,
+}
+
+/// An absorption coefficient: a number (per mm, every wavelength), a
+/// built-in spectrum's name, or a table `{ nm = [...], per_mm = [...] }`.
+#[derive(Debug, Clone)]
+pub enum AbsorptionDef {
+    Constant(f64),
+    Named(String),
+    Table(AbsorptionTable),
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct AbsorptionTable {
+    pub nm: Vec<f64>,
+    pub per_mm: Vec<f64>,
+}
+
+impl<'de> Deserialize<'de> for AbsorptionDef {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = AbsorptionDef;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str(
+                    "an absorption coefficient per mm (0.2), a built-in spectrum's name \
+                     (\"ruby-o\") or a table { nm = [380, 780], per_mm = [0.5, 0.1] }",
+                )
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<AbsorptionDef, E> {
+                Ok(AbsorptionDef::Constant(v))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<AbsorptionDef, E> {
+                Ok(AbsorptionDef::Constant(v as f64))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<AbsorptionDef, E> {
+                Ok(AbsorptionDef::Constant(v as f64))
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<AbsorptionDef, E> {
+                Ok(AbsorptionDef::Named(v.to_string()))
+            }
+            fn visit_map<A: de::MapAccess<'de>>(self, map: A) -> Result<AbsorptionDef, A::Error> {
+                AbsorptionTable::deserialize(de::value::MapAccessDeserializer::new(map))
+                    .map(AbsorptionDef::Table)
+            }
+        }
+        d.deserialize_any(V)
+    }
 }
 
 #[derive(Deserialize, Debug)]

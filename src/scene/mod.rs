@@ -8,7 +8,7 @@ pub mod file;
 pub mod light;
 
 use crate::geometry::Mesh;
-use crate::material::{Dispersion, Material};
+use crate::material::{Absorption, Curve, Dispersion, Material};
 use crate::optics::Jones;
 use crate::render::approx::{BranchingArg, CoherenceModel, DispersionMode, PolarizationArg};
 use crate::render::camera::{Camera, PixelSampling, Projection};
@@ -23,7 +23,8 @@ pub use crate::render::world::{
     DEFAULT_WAVELENGTHS,
 };
 use file::{
-    AnalyzerDef, DispersionDef, DispersionModel, ScaleDef, SceneFile, TransformDef, WavelengthsDef,
+    AbsorptionDef, AnalyzerDef, DispersionDef, DispersionModel, ScaleDef, SceneFile, TransformDef,
+    WavelengthsDef,
 };
 use glam::{DAffine3, DMat3, DVec3};
 use std::fmt;
@@ -232,6 +233,14 @@ impl Scene {
                 .bundle
                 .as_ref()
                 .map(|b| Set::new(*b.get_ref(), origin(b.span(), "render.bundle"))),
+            adaptive: r
+                .adaptive
+                .as_ref()
+                .map(|a| Set::new(*a.get_ref(), origin(a.span(), "render.adaptive"))),
+            min_samples: r
+                .min_samples
+                .as_ref()
+                .map(|m| Set::new(*m.get_ref(), origin(m.span(), "render.min_samples"))),
             ..SettingsLayer::default()
         };
         if let Some(b) = &r.branching {
@@ -844,7 +853,7 @@ fn resolve_material(
     if let Some(m) = def.media.get(key) {
         let md = m.get_ref();
         let mfield = format!("media.{key}");
-        return match (&md.n, &md.n_o, &md.n_e) {
+        let material = match (&md.n, &md.n_o, &md.n_e) {
             (Some(n), None, None) => {
                 check_terms(loc, n, &format!("{mfield}.n"))?;
                 Material::isotropic(key.clone(), dispersion(n.get_ref()))
@@ -862,10 +871,11 @@ fn resolve_material(
             }
             _ => loc.err(
                 m.span(),
-                mfield,
+                mfield.clone(),
                 "give either `n` (isotropic) or both `n_o` and `n_e` (uniaxial)",
             ),
-        };
+        }?;
+        return with_absorption(loc, material, m, &mfield);
     }
     Material::parse(key).or_else(|e| {
         let custom = if def.media.is_empty() {
@@ -878,6 +888,81 @@ fn resolve_material(
         };
         loc.err(name.span(), field, format!("{e}{custom}"))
     })
+}
+
+/// One absorption key's curve (`field` names it in errors).
+fn absorption_curve(
+    loc: &Locator<'_>,
+    d: &Spanned<AbsorptionDef>,
+    field: &str,
+) -> Result<Curve, SceneError> {
+    let curve = match d.get_ref() {
+        AbsorptionDef::Constant(a) => Curve::Constant(*a),
+        AbsorptionDef::Table(t) => Curve::Table {
+            nm: t.nm.clone(),
+            per_mm: t.per_mm.clone(),
+        },
+        AbsorptionDef::Named(name) => {
+            return crate::material::catalog::absorption_spectrum(name).map_or_else(
+                || {
+                    loc.err(
+                        d.span(),
+                        field,
+                        format!(
+                            "no built-in absorption spectrum `{name}`; built-in spectra: {}",
+                            crate::material::catalog::SPECTRUM_NAMES.join(", ")
+                        ),
+                    )
+                },
+                Ok,
+            )
+        }
+    };
+    curve.validate().or_else(|e| loc.err(d.span(), field, e))?;
+    Ok(curve)
+}
+
+/// A custom medium's material with the absorption its `absorption`, or
+/// `absorption_o` and `absorption_e`, keys give (per mm).
+fn with_absorption(
+    loc: &Locator<'_>,
+    material: Material,
+    m: &Spanned<file::MediumDef>,
+    mfield: &str,
+) -> Result<Material, SceneError> {
+    let md = m.get_ref();
+    let curve = |d: &Spanned<AbsorptionDef>, key: &str| {
+        absorption_curve(loc, d, &format!("{mfield}.{key}"))
+    };
+    let absorption = match (&md.absorption, &md.absorption_o, &md.absorption_e) {
+        (None, None, None) => None,
+        (Some(a), None, None) => Some(Absorption::isotropic(curve(a, "absorption")?)),
+        (None, Some(o), Some(e)) if material.is_uniaxial() => Some(Absorption {
+            o: curve(o, "absorption_o")?,
+            e: curve(e, "absorption_e")?,
+        }),
+        (_, o, e) if !material.is_uniaxial() => {
+            let span = o.as_ref().or(e.as_ref()).map_or(m.span(), |d| d.span());
+            return loc.err(
+                span,
+                mfield,
+                "an isotropic medium absorbs every wave alike: give `absorption` (per mm), \
+                 not `absorption_o` or `absorption_e`",
+            );
+        }
+        _ => {
+            return loc.err(
+                m.span(),
+                mfield,
+                "a crystal's absorption is either `absorption` (both waves alike) or both \
+                 `absorption_o` (field normal to the optic axis) and `absorption_e` (field \
+                 along it), per mm",
+            )
+        }
+    };
+    material
+        .with_absorption(absorption)
+        .or_else(|e| loc.err(m.span(), mfield, e))
 }
 
 fn transform(

@@ -355,3 +355,71 @@ fn bundle_flag_needs_the_incoherent_model_and_is_part_of_the_identity() {
     let s = settings(&d.join("c.png"));
     assert!(s.ends_with(" coherence=incoherent"), "{s}");
 }
+
+#[test]
+fn adaptive_flags_are_checked_refuse_sample_blocks_and_join_the_identity() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("scene.toml"), SCENE).unwrap();
+    for bad in ["-1", "nan", "inf"] {
+        refused(
+            d,
+            &["render", "scene.toml", "--adaptive", bad, "-o", "a.png"],
+            &["--adaptive", "display units"],
+        );
+    }
+    refused(
+        d,
+        &["render", "scene.toml", "--min-samples", "1", "-o", "a.png"],
+        &["--min-samples", "at least 2"],
+    );
+    // A scene file's value is named by its line.
+    let bad = SCENE.replace("wavelengths = 8", "wavelengths = 8\nadaptive = -0.5");
+    std::fs::write(d.join("bad.toml"), bad).unwrap();
+    refused(
+        d,
+        &["render", "bad.toml", "-o", "a.png"],
+        &["bad.toml:", "render.adaptive", "display units"],
+    );
+    // A pixel decides from all its samples: a block cannot be rendered.
+    refused(
+        d,
+        &[
+            "render",
+            "scene.toml",
+            "--samples",
+            "0..4/8",
+            "--adaptive",
+            "0.01",
+            "-o",
+            "a.exr",
+            "--mode",
+            "stokes",
+        ],
+        &["--samples 0..4", "adaptive", "by region or tiles"],
+    );
+    assert!(!d.join("a.png").exists() && !d.join("a.exr").exists());
+    let (code, o, e) = spar(
+        d,
+        &[
+            "render",
+            "scene.toml",
+            "--samples",
+            "8",
+            "--adaptive",
+            "0.02",
+            "--min-samples",
+            "4",
+            "-o",
+            "b.png",
+        ],
+    );
+    assert_eq!(code, 0, "{o}{e}");
+    assert!(e.contains("(adaptive 0.02: "), "{e}");
+    let s = settings(&d.join("b.png"));
+    assert!(s.ends_with(" adaptive=0.02 min_samples=4"), "{s}");
+    // Off leaves the identity as before adaptive sampling existed.
+    let (code, o, e) = spar(d, &["render", "scene.toml", "-q", "-o", "c.png"]);
+    assert_eq!(code, 0, "{o}{e}");
+    assert!(!settings(&d.join("c.png")).contains("adaptive"));
+}

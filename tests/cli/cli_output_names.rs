@@ -20,7 +20,7 @@ corners = [[-2.0, -2.0, 0.0], [2.0, -2.0, 0.0], [2.0, 2.0, 0.0], [-2.0, 2.0, 0.0
 polarization = { linear = [0.0, 1.0, 0.0] }
 "#;
 
-const MODES: [&str; 18] = [
+const MODES: [&str; 19] = [
     "color",
     "mono",
     "dop",
@@ -39,6 +39,7 @@ const MODES: [&str; 18] = [
     "polvis-lin",
     "polvis-cir",
     "sheet",
+    "dichroscope",
 ];
 
 /// MODES is every camera mode spar has, so every mode's names are checked.
@@ -141,6 +142,9 @@ fn every_mode_and_extension_is_written_or_refused_with_the_name_to_use() {
                     (MIN_WIDTH, 3 + HEIGHT)
                 } else if mode == "sheet" {
                     (4 + 2 * GAP + 2 * MIN_WIDTH, TITLE_HEIGHT + 3 + HEIGHT)
+                } else if mode == "dichroscope" {
+                    // Two images side by side.
+                    (8, 3)
                 } else {
                     (4, 3)
                 };

@@ -1,13 +1,16 @@
 //! Rendering (`spar::render`, `spar::scene`): the white furnace, physics
 //! check scenes on every backend, hard cases, lost light, the spectral and
 //! branching models, sampling strategies, scene vectors, the scene keys of
-//! coherence, units, lights at infinity and the camera, and fuzzed scenes.
+//! coherence, units, lights at infinity and the camera, adaptive sampling,
+//! and fuzzed scenes.
 //! One test binary; each file is a module.
 
 #[path = "../support/mod.rs"]
 mod support;
 
 mod fuzz_scene;
+mod render_absorption;
+mod render_adaptive;
 mod render_bundle;
 mod render_coherence;
 mod render_furnace;

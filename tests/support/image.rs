@@ -75,18 +75,18 @@ pub struct Backend {
     pub name: &'static str,
     pub write: WriteFn,
     pub read: ReadFn,
-    /// Whether it is OpenImageIO (all formats) rather than the pure-Rust
-    /// codecs (EXR and PNG).
+    /// Whether EXR and PNG go through OpenImageIO rather than the pure-Rust
+    /// codecs.
     pub oiio: bool,
 }
 
-/// `spar::image::{write, read}`: OpenImageIO in a native build, the
-/// pure-Rust codecs otherwise.
+/// `spar::image::{write, read}`: the pure-Rust codecs for EXR and PNG, and
+/// OpenImageIO for the other formats in a native build.
 pub const DEFAULT: Backend = Backend {
     name: "image::write/read",
     write: image::write,
     read: image::read,
-    oiio: cfg!(feature = "native"),
+    oiio: false,
 };
 
 /// `spar::image::pure::{write, read}`, in every build.
@@ -97,11 +97,19 @@ pub const PURE: Backend = Backend {
     oiio: false,
 };
 
-/// Every distinct backend of this build.
+/// `spar::image::oiio_only::{write, read}`: OpenImageIO for every format.
+#[cfg(feature = "native")]
+pub const OIIO: Backend = Backend {
+    name: "image::oiio_only",
+    write: image::oiio_only::write,
+    read: image::oiio_only::read,
+    oiio: true,
+};
+
+/// Every backend of this build.
 pub fn backends() -> Vec<Backend> {
-    if cfg!(feature = "native") {
-        vec![DEFAULT, PURE]
-    } else {
-        vec![DEFAULT]
-    }
+    #[cfg(feature = "native")]
+    return vec![DEFAULT, PURE, OIIO];
+    #[cfg(not(feature = "native"))]
+    vec![DEFAULT]
 }

@@ -33,8 +33,9 @@ pub struct SpeedErrorArgs {
     pub output: PathBuf,
     /// Settings to measure, one per flag: space-separated `key=value`
     /// (depth, prune, spp, wavelengths, spectral, branching, polarization,
-    /// dispersion, quality, seed, coherence, bundle). Default: a built-in
-    /// sweep around the scene's settings (docs/speed-vs-error.md).
+    /// dispersion, quality, seed, coherence, bundle, adaptive,
+    /// min_samples). Default: a built-in sweep around the scene's settings
+    /// (docs/speed-vs-error.md).
     #[arg(long = "config")]
     pub configs: Vec<String>,
     /// Raw reference film (EXR). Read if it exists (it must have been made

@@ -25,7 +25,7 @@ struct ConfigFlags {
 }
 
 /// A configuration's key and the `spar render` flag it stands for.
-const KEYS: [(&str, &str); 12] = [
+const KEYS: [(&str, &str); 14] = [
     ("depth", "--max-depth"),
     ("prune", "--prune"),
     ("spp", "--samples"),
@@ -38,6 +38,8 @@ const KEYS: [(&str, &str); 12] = [
     ("seed", "--seed"),
     ("coherence", "--coherence"),
     ("bundle", "--bundle"),
+    ("adaptive", "--adaptive"),
+    ("min_samples", "--min-samples"),
 ];
 
 impl Config {

@@ -1,11 +1,12 @@
 //! spar's pure-Rust image backend: OpenEXR through the [`exr`] crate and PNG
 //! through the [`png`] crate, no native library.
 //!
-//! [`super::write`] and [`super::read`] use it when spar is built without
-//! the `native` feature. It is compiled in every build, and [`write`] and
-//! [`read`] here reach it directly — with the same checks, atomic write and
-//! errors as [`super::write`] and [`super::read`] — so that a native build
-//! can check it against OpenImageIO, file for file.
+//! [`super::write`] and [`super::read`] use it for these two formats in
+//! every build (and a native build for the rest goes through OpenImageIO).
+//! [`write`] and [`read`] here reach it directly — with the same checks,
+//! atomic write and errors as [`super::write`] and [`super::read`] — and
+//! `image::oiio_only` reaches OpenImageIO directly, so that a native build
+//! can check one against the other, file for file.
 //!
 //! It keeps the contract of the [module documentation](super), within two
 //! formats:
@@ -105,6 +106,20 @@ fn format_from_signature(file: &mut File) -> Result<Format, Cause> {
              reads; {OTHER_FORMATS}"
         )))
     }
+}
+
+/// Whether [`write`] handles `path`'s extension.
+#[cfg(feature = "native")]
+pub(super) fn writes(path: &Path) -> bool {
+    format_from_extension(path).is_ok()
+}
+
+/// Whether [`read`] handles `path`: its first bytes are an OpenEXR or PNG
+/// signature, or it cannot be opened (so the error is this backend's, a
+/// plain file-system error).
+#[cfg(feature = "native")]
+pub(super) fn reads(path: &Path) -> bool {
+    File::open(path).map_or(true, |mut file| format_from_signature(&mut file).is_ok())
 }
 
 fn write_file(
