@@ -6,8 +6,9 @@
 //! `2·min`, `4·min`, … and finally `samples`) until, at one of these
 //! counts `c`, the standard error of its mean is at most `noise` in every
 //! quantity below. The standard error is the sample standard deviation
-//! over `√c`, raised to its one-sided 95 % upper confidence bound (× √((c −
-//! 1) / χ²₀.₀₅(c − 1)): 1.80 at 8 samples, 1.44 at 16, 1.27 at 32), so a
+//! over `√c`, raised to its one-sided 95 % upper confidence bound
+//! (× √((c − 1) / χ²₀.₀₅(c − 1)): 1.80 at 8 samples, 1.44 at 16, 1.27 at
+//! 32), so a
 //! pixel whose few samples happen to spread little is not stopped on that
 //! luck: checking at every doubling would otherwise stop such pixels
 //! early (measured: at 8 minimum samples, the plain estimate gave the
