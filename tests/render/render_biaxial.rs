@@ -52,7 +52,7 @@ fn worst(toml: &str) -> (f64, f64, u64) {
 
 #[test]
 fn biaxial_gem_fades_into_a_white_furnace_as_depth_grows() {
-    // Topaz-like indices (2V ≈ 62°), axes tilted off the view: the same
+    // Topaz-like indices (2V ≈ 57°), axes tilted off the view: the same
     // bound at depth 40 as the calcite furnace (render_furnace.rs).
     let media = "[media.bx]\nn_x = 1.6093\nn_y = 1.6116\nn_z = 1.6194";
     let axes = "crystal_axes = { z = [0.3, 0.5, 0.8], x = [1.0, 0.0, 0.2] }";
