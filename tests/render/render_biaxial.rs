@@ -215,3 +215,41 @@ fn biaxial_scene_keys_load_and_bad_ones_name_file_line_and_field() {
         assert!(err.contains(needle), "{to}: `{needle}` not in: {err}");
     }
 }
+
+#[test]
+fn biaxial_with_two_equal_indices_renders_as_the_uniaxial_crystal() {
+    // n = [n_o, n_o, n_e] about crystal z is the uniaxial crystal of optic
+    // axis z (ε = n_o² I + (n_e² − n_o²) z zᵀ): the general eigenwave
+    // solver along every path of the tree against the uniaxial solver.
+    let light = "[[light]]\ncorners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], \
+                 [-2.0, 2.0, -1.5]]\npolarization = { linear = [1.0, 0.3, 0.0] }\n";
+    let extra = "max_depth = 12\nprune = 0.0";
+    let uni = gem_scene(
+        light,
+        "uniaxial:1.6584:1.4864",
+        "optic_axis = [0.3, 0.5, 0.8]",
+        extra,
+    );
+    let bx = gem_scene(
+        light,
+        "biaxial:1.6584:1.6584:1.4864",
+        "crystal_axes = { z = [0.3, 0.5, 0.8], x = [1.0, 0.0, 0.2] }",
+        extra,
+    );
+    let (s_uni, _d1) = common::scene(&uni, &[]);
+    let (s_bx, _d2) = common::scene(&bx, &[]);
+    let (f_uni, _) = render_at(&s_uni, &[550.0]);
+    let (f_bx, _) = render_at(&s_bx, &[550.0]);
+    let bg = spar::spectrum::cie::d65(550.0);
+    let mut worst = 0.0f64;
+    for y in 0..f_uni.height {
+        for x in 0..f_uni.width {
+            let (a, b) = (f_uni.stokes(x, y, 0), f_bx.stokes(x, y, 0));
+            for c in 0..4 {
+                worst = worst.max((a[c] - b[c]).abs() / bg);
+            }
+        }
+    }
+    eprintln!("two-equal-index biaxial vs uniaxial: worst Stokes difference {worst:.2e} of the background");
+    assert!(worst < 1e-9, "worst difference {worst}");
+}
