@@ -47,6 +47,9 @@ pub fn interface<'py>(
             Some(a) => vector("axis", a)?,
             None => "0,0,1".into(),
         },
+        // A biaxial side's crystal x: the CLI's default (+x, made normal
+        // to `axis`); Python has no argument for it yet.
+        axis_x: "1,0,0".into(),
         normal: match normal {
             Some(n) => vector("normal", n)?,
             None => "0,0,1".into(),

@@ -25,13 +25,15 @@ use std::io::Write;
 #[derive(clap::Args, Debug)]
 pub struct InterfaceArgs {
     /// Medium of the incident wave: a built-in name (e.g. air, n-bk7,
-    /// calcite, quartz, sapphire, diamond), `iso:N` or `uniaxial:NO:NE`.
+    /// calcite, quartz, sapphire, diamond, topaz), `iso:N`, `uniaxial:NO:NE`
+    /// or `biaxial:NX:NY:NZ`.
     #[arg(long, value_name = "MEDIUM")]
     pub from: String,
     /// Medium on the other side of the interface (same forms as --from).
     #[arg(long, value_name = "MEDIUM")]
     pub to: String,
-    /// Optic axis of whichever side is uniaxial, `x,y,z`.
+    /// Optic axis of whichever side is uniaxial, or crystal z of a biaxial
+    /// side, `x,y,z`.
     #[arg(
         long,
         value_name = "X,Y,Z",
@@ -39,6 +41,15 @@ pub struct InterfaceArgs {
         allow_hyphen_values = true
     )]
     pub axis: String,
+    /// Crystal x of a biaxial side, `x,y,z` (orthogonalized against
+    /// --axis).
+    #[arg(
+        long = "axis-x",
+        value_name = "X,Y,Z",
+        default_value = "1,0,0",
+        allow_hyphen_values = true
+    )]
+    pub axis_x: String,
     /// Interface normal, `x,y,z`, pointing into the --from medium.
     #[arg(
         long,
@@ -52,8 +63,8 @@ pub struct InterfaceArgs {
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub incident: String,
     /// Mode of the incident wave: s or p (isotropic medium), o or e
-    /// (uniaxial crystal).
-    #[arg(long, value_name = "s|p|o|e")]
+    /// (uniaxial crystal), fast or slow (biaxial crystal).
+    #[arg(long, value_name = "s|p|o|e|fast|slow")]
     pub mode: String,
     /// Vacuum wavelength in nm.
     #[arg(
@@ -142,15 +153,37 @@ pub fn solve(args: &InterfaceArgs) -> Result<(Interface, Scattering), CliError> 
     }
     let from = Material::parse(&args.from).map_err(|e| CliError::input(format!("--from: {e}")))?;
     let to = Material::parse(&args.to).map_err(|e| CliError::input(format!("--to: {e}")))?;
+    let axis_x = parse_vector(&args.axis_x, "axis-x")?;
+    let orient = |m: Material, flag: &str| -> Result<Material, CliError> {
+        if !m.is_biaxial() {
+            return Ok(m);
+        }
+        let name = m.name().to_string();
+        m.with_crystal_axes(axis, axis_x).map_err(|_| {
+            CliError::input(format!(
+                "--{flag} {}: --axis-x `{}` is parallel to --axis `{}`: a biaxial crystal's x \
+                 axis needs a part normal to its z axis",
+                name, args.axis_x, args.axis
+            ))
+        })
+    };
+    let from = orient(from, "from")?;
+    let to = orient(to, "to")?;
     let m_from = from.medium(lambda, axis);
     let m_to = to.medium(lambda, axis);
     check_indices(from.name(), &m_from, lambda)?;
     check_indices(to.name(), &m_to, lambda)?;
-    let mode = Mode::parse(&args.mode)
-        .ok_or_else(|| CliError::input(format!("--mode `{}`: expected s, p, o or e", args.mode)))?;
+    let mode = Mode::parse(&args.mode).ok_or_else(|| {
+        CliError::input(format!(
+            "--mode `{}`: expected s, p, o or e, or fast or slow (biaxial)",
+            args.mode
+        ))
+    })?;
     if !mode.exists_in(&m_from) {
         let has = if m_from.is_isotropic() {
             "it is isotropic: use --mode s or p"
+        } else if m_from.is_biaxial() {
+            "it is a biaxial crystal: use --mode fast or slow"
         } else {
             "it is a uniaxial crystal: use --mode o or e"
         };

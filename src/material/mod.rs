@@ -1,8 +1,9 @@
 //! Materials: dispersion models and the catalogue of built-in media.
 //!
-//! A [`Material`] is isotropic (one index) or uniaxial (ordinary and
-//! extraordinary indices and an optic axis, +z unless set), each index a
-//! [`Dispersion`] of wavelength. At one wavelength it becomes an
+//! A [`Material`] is isotropic (one index), uniaxial (ordinary and
+//! extraordinary indices and an optic axis, +z unless set) or biaxial
+//! (principal indices along the crystal axes x, y, z; crystal z and x along
+//! +z and +x unless set), each index a [`Dispersion`] of wavelength. At one wavelength it becomes an
 //! [`optics::Medium`](crate::optics::Medium), what the interface solver sees.
 
 pub mod absorption;
@@ -28,6 +29,14 @@ pub enum Optics {
         n_o: Dispersion,
         n_e: Dispersion,
         axis: DVec3,
+    },
+    /// A biaxial crystal: principal indices `n = [n_x, n_y, n_z]` along the
+    /// crystal axes x, y = z × x and z, with the crystal's `z` and `x` unit
+    /// and orthogonal (in the object's frame).
+    Biaxial {
+        n: [Dispersion; 3],
+        z: DVec3,
+        x: DVec3,
     },
 }
 
@@ -76,8 +85,68 @@ impl Material {
         })
     }
 
+    /// A biaxial material with principal indices `n_x`, `n_y`, `n_z` along
+    /// the crystal axes, crystal z along +z and x along +x; fails when a
+    /// model is not usable over 380–780 nm.
+    pub fn biaxial(
+        name: impl Into<String>,
+        n_x: Dispersion,
+        n_y: Dispersion,
+        n_z: Dispersion,
+    ) -> Result<Self, String> {
+        let name = name.into();
+        for (d, axis) in [(&n_x, "x"), (&n_y, "y"), (&n_z, "z")] {
+            d.validate()
+                .map_err(|e| format!("{name}: index along crystal {axis}: {e}"))?;
+        }
+        Ok(Material {
+            name,
+            optics: Optics::Biaxial {
+                n: [n_x, n_y, n_z],
+                z: DVec3::Z,
+                x: DVec3::X,
+            },
+            absorption: None,
+        })
+    }
+
+    /// The same biaxial material with its crystal z along `z` and its crystal
+    /// x along the part of `x` orthogonal to `z` (both normalised). Fails
+    /// for a zero or non-finite vector, for `x` parallel to `z`, and for a
+    /// material that is not biaxial.
+    pub fn with_crystal_axes(mut self, z: DVec3, x: DVec3) -> Result<Self, String> {
+        let Optics::Biaxial {
+            z: own_z, x: own_x, ..
+        } = &mut self.optics
+        else {
+            return Err(format!(
+                "{} is not a biaxial crystal: it has no crystal axes to set",
+                self.name
+            ));
+        };
+        let (z, x) = crate::optics::medium::orthonormal_axes(z, x).ok_or_else(|| {
+            format!(
+                "{}: crystal axes z = {z} and x = {x} must be finite, non-zero and not parallel",
+                self.name
+            )
+        })?;
+        *own_z = z;
+        *own_x = x;
+        Ok(self)
+    }
+
+    /// The crystal axes `(z, x)` of a biaxial material, `None` otherwise.
+    pub fn crystal_axes(&self) -> Option<(DVec3, DVec3)> {
+        match self.optics {
+            Optics::Biaxial { z, x, .. } => Some((z, x)),
+            _ => None,
+        }
+    }
+
     /// The same material with its optic axis along `axis` (normalised).
-    /// Fails for a zero or non-finite axis, and for an isotropic material.
+    /// Fails for a zero or non-finite axis, and for an isotropic or biaxial
+    /// material (a biaxial crystal's axes are set by
+    /// [`Material::with_crystal_axes`]).
     pub fn with_axis(mut self, axis: DVec3) -> Result<Self, String> {
         let unit = unit_axis(axis).ok_or_else(|| {
             format!(
@@ -93,13 +162,20 @@ impl Material {
                     self.name
                 ))
             }
+            Optics::Biaxial { .. } => {
+                return Err(format!(
+                    "{} is biaxial: set its crystal axes (z and x), not one optic axis",
+                    self.name
+                ))
+            }
         }
         Ok(self)
     }
 
     /// Parses a material: a built-in name (case-insensitive: see
-    /// [`BUILTIN_NAMES`]), `iso:N` (constant index N) or `uniaxial:NO:NE`
-    /// (constant ordinary and extraordinary indices, axis +z).
+    /// [`BUILTIN_NAMES`]), `iso:N` (constant index N), `uniaxial:NO:NE`
+    /// (constant ordinary and extraordinary indices, axis +z) or
+    /// `biaxial:NX:NY:NZ` (constant principal indices, crystal axes +x, +z).
     pub fn parse(spec: &str) -> Result<Material, String> {
         let spec = spec.trim();
         let index = |s: &str, what: &str| -> Result<f64, String> {
@@ -132,9 +208,28 @@ impl Material {
             let n_e = index(parts[1], "the extraordinary index")?;
             return Material::uniaxial(spec, Dispersion::Constant(n_o), Dispersion::Constant(n_e));
         }
+        if let Some(rest) = lower.strip_prefix("biaxial:") {
+            let parts: Vec<&str> = rest.split(':').collect();
+            if parts.len() != 3 {
+                return Err(format!(
+                    "`{spec}`: a constant biaxial material is `biaxial:NX:NY:NZ` (principal \
+                     indices along crystal x, y, z), e.g. `biaxial:1.609:1.612:1.619`"
+                ));
+            }
+            let n_x = index(parts[0], "the index along crystal x")?;
+            let n_y = index(parts[1], "the index along crystal y")?;
+            let n_z = index(parts[2], "the index along crystal z")?;
+            return Material::biaxial(
+                spec,
+                Dispersion::Constant(n_x),
+                Dispersion::Constant(n_y),
+                Dispersion::Constant(n_z),
+            );
+        }
         builtin(spec).ok_or_else(|| {
             format!(
-                "unknown material `{spec}`: use one of {}, or `iso:N`, or `uniaxial:NO:NE`",
+                "unknown material `{spec}`: use one of {}, or `iso:N`, `uniaxial:NO:NE` or \
+                 `biaxial:NX:NY:NZ`",
                 catalog::known_names().join(", ")
             )
         })
@@ -142,10 +237,18 @@ impl Material {
 
     /// The same material absorbing as `absorption` says (`None`, or
     /// curves that are zero everywhere: colourless). Fails for an invalid
-    /// curve, and for an isotropic material whose `o` and `e` curves
-    /// differ.
+    /// curve, for an isotropic material whose `o` and `e` curves differ,
+    /// and for any absorption on a biaxial material (not modelled: biaxial
+    /// media are lossless, docs/materials.md).
     pub fn with_absorption(mut self, absorption: Option<Absorption>) -> Result<Self, String> {
         if let Some(a) = &absorption {
+            if self.is_biaxial() && !a.is_zero() {
+                return Err(format!(
+                    "{} is biaxial: absorption in biaxial crystals is not modelled (they are \
+                     treated as lossless)",
+                    self.name
+                ));
+            }
             a.validate()
                 .map_err(|e| format!("{}: absorption: {e}", self.name))?;
             if !self.is_uniaxial() && a.o != a.e {
@@ -187,25 +290,33 @@ impl Material {
         matches!(self.optics, Optics::Uniaxial { .. })
     }
 
+    /// True for a biaxial crystal.
+    pub fn is_biaxial(&self) -> bool {
+        matches!(self.optics, Optics::Biaxial { .. })
+    }
+
     /// True when an index depends on wavelength (constant indices do not).
     pub fn is_dispersive(&self) -> bool {
         match &self.optics {
             Optics::Isotropic { n } => !n.is_constant(),
             Optics::Uniaxial { n_o, n_e, .. } => !(n_o.is_constant() && n_e.is_constant()),
+            Optics::Biaxial { n, .. } => !n.iter().all(Dispersion::is_constant),
         }
     }
 
     /// The optic axis of a uniaxial material (in the object's frame), `None`
-    /// for an isotropic one.
+    /// for an isotropic or biaxial one (a biaxial crystal has two optic axes
+    /// that move with wavelength: see [`Material::crystal_axes`]).
     pub fn axis(&self) -> Option<DVec3> {
         match self.optics {
             Optics::Uniaxial { axis, .. } => Some(axis),
-            Optics::Isotropic { .. } => None,
+            Optics::Isotropic { .. } | Optics::Biaxial { .. } => None,
         }
     }
 
     /// The indices at `lambda_nm`: `(n, n)` for an isotropic material,
-    /// `(n_o, n_e)` for a uniaxial one.
+    /// `(n_o, n_e)` for a uniaxial one, the smallest and largest principal
+    /// index for a biaxial one (see [`Material::principal_indices`]).
     pub fn indices(&self, lambda_nm: f64) -> (f64, f64) {
         match &self.optics {
             Optics::Isotropic { n } => {
@@ -213,13 +324,34 @@ impl Material {
                 (n, n)
             }
             Optics::Uniaxial { n_o, n_e, .. } => (n_o.n(lambda_nm), n_e.n(lambda_nm)),
+            Optics::Biaxial { .. } => {
+                let n = self.principal_indices(lambda_nm);
+                (n[0].min(n[1]).min(n[2]), n[0].max(n[1]).max(n[2]))
+            }
+        }
+    }
+
+    /// The principal indices at `lambda_nm` along crystal x, y, z: `[n; 3]`
+    /// for an isotropic material, `[n_o, n_o, n_e]` (axis as z) for a
+    /// uniaxial one.
+    pub fn principal_indices(&self, lambda_nm: f64) -> [f64; 3] {
+        match &self.optics {
+            Optics::Isotropic { n } => [n.n(lambda_nm); 3],
+            Optics::Uniaxial { n_o, n_e, .. } => {
+                let o = n_o.n(lambda_nm);
+                [o, o, n_e.n(lambda_nm)]
+            }
+            Optics::Biaxial { n, .. } => [n[0].n(lambda_nm), n[1].n(lambda_nm), n[2].n(lambda_nm)],
         }
     }
 
     /// The medium at `lambda_nm`, with the optic axis `axis` (the object's
     /// axis in the frame of the interface, normalised here; a zero or
     /// non-finite `axis` falls back to the material's own axis). Isotropic
-    /// materials ignore `axis`.
+    /// and biaxial materials ignore `axis`: a biaxial one is
+    /// [`Medium::Biaxial`] on its own crystal axes, or
+    /// [`Medium::Isotropic`] at a wavelength where its three indices are
+    /// equal.
     pub fn medium(&self, lambda_nm: f64, axis: DVec3) -> Medium {
         match &self.optics {
             Optics::Isotropic { n } => Medium::Isotropic { n: n.n(lambda_nm) },
@@ -232,6 +364,19 @@ impl Material {
                 n_e: n_e.n(lambda_nm),
                 axis: unit_axis(axis).unwrap_or(*own),
             },
+            // ε = Σ n_i² a_i a_iᵀ (docs/physics.md §4.8); axes are orthonormal by
+            // construction (`with_crystal_axes`). Three equal indices make
+            // ε = n² I exactly: the isotropic medium, whose doubly degenerate
+            // waves the general quartic solver does not resolve (its roots
+            // are double everywhere).
+            Optics::Biaxial { n, z, x } => {
+                let n = [n[0].n(lambda_nm), n[1].n(lambda_nm), n[2].n(lambda_nm)];
+                if n[0] == n[1] && n[1] == n[2] {
+                    Medium::Isotropic { n: n[0] }
+                } else {
+                    Medium::Biaxial { n, x: *x, z: *z }
+                }
+            }
         }
     }
 }

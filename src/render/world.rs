@@ -78,8 +78,10 @@ impl Scene {
         self.objects.iter().any(|o| o.material.is_dispersive())
     }
 
-    /// True when some object is a uniaxial crystal.
+    /// True when some object is a crystal (uniaxial or biaxial).
     pub fn has_crystals(&self) -> bool {
-        self.objects.iter().any(|o| o.material.is_uniaxial())
+        self.objects
+            .iter()
+            .any(|o| o.material.is_uniaxial() || o.material.is_biaxial())
     }
 }

@@ -33,11 +33,17 @@
 //! absorption_o = 0.3               # per mm: a number, "ruby-o" (a built-in spectrum),
 //! absorption_e = { nm = [380, 780], per_mm = [0.5, 0.1] }   # or a table
 //!
+//! [media.my_biaxial]               # principal indices along crystal x, y, z
+//! n_x = 1.6093                     # each a number or a dispersion model
+//! n_y = 1.6116
+//! n_z = 1.6194
+//!
 //! [[object]]
 //! mesh = "gems/trichecker12.obj"   # .obj or .asc, relative to this file, or "builtin:NAME"
 //! # or: cut = { name = "round-brilliant", table = 0.53, crown_angle = 34.5, pavilion_angle = 40.75 }
 //! medium = "calcite"               # built-in, iso:N, uniaxial:NO:NE, or a [media] name
-//! optic_axis = [0.0, 1.0, 1.0]     # object space; crystals only (default +z)
+//! optic_axis = [0.0, 1.0, 1.0]     # object space; uniaxial crystals only (default +z)
+//! # crystal_axes = { z = [0, 0, 1], x = [1, 0, 0] }   # biaxial only (x orthogonalized against z)
 //! transform = { scale = 1.0, rotate = [0.0, 0.0, 30.0], translate = [0.0, 0.0, 0.0] }
 //!
 //! [[light]]
@@ -92,6 +98,8 @@ field_names! {
     Up = "camera.up",
     Resolution = "camera.resolution",
     OpticAxis = "object.optic_axis",
+    CrystalZ = "object.crystal_axes.z",
+    CrystalX = "object.crystal_axes.x",
     Scale = "object.transform.scale",
     Rotate = "object.transform.rotate",
     Translate = "object.transform.translate",
@@ -370,6 +378,10 @@ pub struct MediumDef {
     /// Uniaxial ordinary and extraordinary indices.
     pub n_o: Option<Spanned<DispersionDef>>,
     pub n_e: Option<Spanned<DispersionDef>>,
+    /// Biaxial principal indices along crystal x, y and z.
+    pub n_x: Option<Spanned<DispersionDef>>,
+    pub n_y: Option<Spanned<DispersionDef>>,
+    pub n_z: Option<Spanned<DispersionDef>>,
     /// Absorption per mm for every wave (isotropic media, or a crystal
     /// that absorbs both waves alike).
     pub absorption: Option<Spanned<AbsorptionDef>>,
@@ -438,7 +450,19 @@ pub struct ObjectDef {
     pub medium: Spanned<String>,
     #[serde(default, deserialize_with = "opt_spanned::<_, _, 3, OpticAxis>")]
     pub optic_axis: Option<Spanned<V3>>,
+    /// A biaxial crystal's axes in object space: `{ z = [..], x = [..] }`.
+    pub crystal_axes: Option<Spanned<CrystalAxesDef>>,
     pub transform: Option<Spanned<TransformDef>>,
+}
+
+/// A biaxial crystal's z axis and x axis (x orthogonalized against z).
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub struct CrystalAxesDef {
+    #[serde(deserialize_with = "exact::<_, _, 3, CrystalZ>")]
+    pub z: V3,
+    #[serde(deserialize_with = "exact::<_, _, 3, CrystalX>")]
+    pub x: V3,
 }
 
 /// `scale = 2.0` or `scale = [x, y, z]`.

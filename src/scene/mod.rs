@@ -356,10 +356,18 @@ impl Scene {
                     return loc.err(
                         a.span(),
                         field("optic_axis"),
-                        format!(
-                            "medium `{}` is isotropic: it has no optic axis",
-                            o.medium.get_ref()
-                        ),
+                        if material.is_biaxial() {
+                            format!(
+                                "medium `{}` is biaxial: it has two optic axes; orient it with \
+                                 crystal_axes = {{ z = [..], x = [..] }}",
+                                o.medium.get_ref()
+                            )
+                        } else {
+                            format!(
+                                "medium `{}` is isotropic: it has no optic axis",
+                                o.medium.get_ref()
+                            )
+                        },
                     );
                 }
                 (axis, true) => {
@@ -373,6 +381,49 @@ impl Scene {
                             axis.as_ref().map_or(o_span.clone(), |a| a.span()),
                             field("optic_axis"),
                             m,
+                        )
+                    })?
+                }
+                (None, false) => material,
+            };
+            let material = match (&o.crystal_axes, material.is_biaxial()) {
+                (Some(a), false) => {
+                    return loc.err(
+                        a.span(),
+                        field("crystal_axes"),
+                        format!(
+                            "medium `{}` is not biaxial: crystal_axes belong to a biaxial \
+                             medium (n_x, n_y, n_z); a uniaxial one takes optic_axis",
+                            o.medium.get_ref()
+                        ),
+                    );
+                }
+                (axes, true) => {
+                    let (z, x) = match axes {
+                        Some(a) => {
+                            let d = a.get_ref();
+                            match (finite3(d.z), finite3(d.x)) {
+                                (Some(z), Some(x)) => (z, x),
+                                _ => {
+                                    return loc.err(
+                                        a.span(),
+                                        field("crystal_axes"),
+                                        "components must be finite numbers",
+                                    )
+                                }
+                            }
+                        }
+                        None => (DVec3::Z, DVec3::X),
+                    };
+                    // Both axes go to world space by the object's linear map; x is
+                    // orthogonalized against z there (a shear or non-uniform scale
+                    // keeps z and moves x only by its part along z).
+                    let m = transform.matrix3;
+                    material.with_crystal_axes(m * z, m * x).or_else(|e| {
+                        loc.err(
+                            axes.as_ref().map_or(o_span.clone(), |a| a.span()),
+                            field("crystal_axes"),
+                            e,
                         )
                     })?
                 }
@@ -853,7 +904,32 @@ fn resolve_material(
     if let Some(m) = def.media.get(key) {
         let md = m.get_ref();
         let mfield = format!("media.{key}");
+        let biaxial = md.n_x.is_some() || md.n_y.is_some() || md.n_z.is_some();
         let material = match (&md.n, &md.n_o, &md.n_e) {
+            (None, None, None) if biaxial => match (&md.n_x, &md.n_y, &md.n_z) {
+                (Some(nx), Some(ny), Some(nz)) => {
+                    check_terms(loc, nx, &format!("{mfield}.n_x"))?;
+                    check_terms(loc, ny, &format!("{mfield}.n_y"))?;
+                    check_terms(loc, nz, &format!("{mfield}.n_z"))?;
+                    Material::biaxial(
+                        key.clone(),
+                        dispersion(nx.get_ref()),
+                        dispersion(ny.get_ref()),
+                        dispersion(nz.get_ref()),
+                    )
+                    .or_else(|e| loc.err(m.span(), mfield.clone(), e))
+                }
+                _ => loc.err(
+                    m.span(),
+                    mfield.clone(),
+                    "a biaxial medium gives all three of `n_x`, `n_y` and `n_z`",
+                ),
+            },
+            _ if biaxial => loc.err(
+                m.span(),
+                mfield.clone(),
+                "a biaxial medium gives `n_x`, `n_y` and `n_z`, not `n`, `n_o` or `n_e`",
+            ),
             (Some(n), None, None) => {
                 check_terms(loc, n, &format!("{mfield}.n"))?;
                 Material::isotropic(key.clone(), dispersion(n.get_ref()))
@@ -872,7 +948,8 @@ fn resolve_material(
             _ => loc.err(
                 m.span(),
                 mfield.clone(),
-                "give either `n` (isotropic) or both `n_o` and `n_e` (uniaxial)",
+                "give either `n` (isotropic), both `n_o` and `n_e` (uniaxial), or `n_x`, \
+                 `n_y` and `n_z` (biaxial)",
             ),
         }?;
         return with_absorption(loc, material, m, &mfield);
@@ -936,6 +1013,14 @@ fn with_absorption(
     };
     let absorption = match (&md.absorption, &md.absorption_o, &md.absorption_e) {
         (None, None, None) => None,
+        _ if material.is_biaxial() => {
+            return loc.err(
+                m.span(),
+                mfield,
+                "absorption in a biaxial medium is not modelled: biaxial media are lossless \
+                 (docs/materials.md)",
+            )
+        }
         (Some(a), None, None) => Some(Absorption::isotropic(curve(a, "absorption")?)),
         (None, Some(o), Some(e)) if material.is_uniaxial() => Some(Absorption {
             o: curve(o, "absorption_o")?,

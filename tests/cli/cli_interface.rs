@@ -270,6 +270,76 @@ fn bad_arguments_exit_2_with_a_message() {
 }
 
 #[test]
+fn biaxial_media_by_name_with_both_axes() {
+    // Topaz-like constant indices, crystal z tilted and x set by --axis-x:
+    // the solve conserves energy and the table reports the crystal axes
+    // (x orthogonalized against z) and 2V.
+    let args = [
+        "--from",
+        "biaxial:1.6093:1.6116:1.6194",
+        "--to",
+        "air",
+        "--axis",
+        "0,1,1",
+        "--axis-x",
+        "1,0,0.5",
+        "--incident",
+        "0.2,0.1,-1",
+        "--mode",
+        "slow",
+    ];
+    let mut json = args.to_vec();
+    json.push("--json");
+    let out = spar(&json);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let sum = doc["energy_sum"].as_f64().unwrap();
+    assert!((sum - 1.0).abs() < 1e-9, "energy sum {sum}");
+    let out = spar(&args);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("biaxial, n_x = 1.609300"), "{text}");
+    assert!(text.contains("z = (0.0000, 0.7071, 0.7071)"), "{text}");
+    // (1, 0, 0.5) less its part along z: (1, −0.25, 0.25)/√1.125.
+    assert!(
+        text.contains("crystal x = (0.9428, -0.2357, 0.2357)"),
+        "{text}"
+    );
+    assert!(text.contains("2V = "), "{text}");
+    // Bad biaxial input: exit 2 with a message naming the flag.
+    let cases: [(&[&str], &str); 4] = [
+        (
+            &["--axis", "1,0,0", "--axis-x", "2,0,0"],
+            "--axis-x `2,0,0` is parallel",
+        ),
+        (
+            &["--axis-x", "0,0,0"],
+            "--axis-x `0,0,0` must be a non-zero",
+        ),
+        (&["--from", "biaxial:1.6:1.7"], "biaxial:NX:NY:NZ"),
+        (&["--mode", "o"], "biaxial crystal: use --mode fast or slow"),
+    ];
+    for (overrides, needle) in cases {
+        let mut a: Vec<&str> = args.to_vec();
+        for pair in overrides.chunks(2) {
+            match a.iter().position(|x| *x == pair[0]) {
+                Some(i) => a[i + 1] = pair[1],
+                None => a.extend_from_slice(pair),
+            }
+        }
+        let out = spar(&a);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{a:?}: {err}");
+        assert!(err.contains(needle), "{a:?}: `{needle}` not in {err}");
+        assert!(!err.contains("panicked"), "{a:?}: {err}");
+    }
+}
+
+#[test]
 fn extraordinary_wave_whose_energy_leaves_is_rejected() {
     // Calcite, axis 45° in the x–z plane, interface normal +z. A wave vector
     // just below the interface plane (k·N < 0) whose ray has S·N > 0 (the

@@ -11,6 +11,7 @@ mod support;
 mod fuzz_scene;
 mod render_absorption;
 mod render_adaptive;
+mod render_biaxial;
 mod render_bundle;
 mod render_coherence;
 mod render_furnace;

@@ -107,3 +107,45 @@ fn poles_and_bad_coefficients_are_refused() {
     .unwrap_err();
     assert!(err.contains("extraordinary"), "{err}");
 }
+
+#[test]
+fn constant_biaxial_materials_and_their_axes() {
+    use glam::DVec3;
+    use spar::optics::Medium;
+    let m = Material::parse("biaxial:1.6093:1.6116:1.6194").unwrap();
+    assert!(m.is_biaxial() && !m.is_uniaxial() && !m.is_dispersive());
+    assert_eq!(m.principal_indices(500.0), [1.6093, 1.6116, 1.6194]);
+    assert_eq!(m.indices(500.0), (1.6093, 1.6194));
+    assert_eq!(m.axis(), None);
+    // x is orthogonalized against z (Gram–Schmidt), as Medium::biaxial does.
+    let z = DVec3::new(0.0, 1.0, 1.0);
+    let x = DVec3::new(1.0, 0.0, 3.0);
+    let m = m.with_crystal_axes(z, x).unwrap();
+    assert_eq!(
+        m.medium(550.0, DVec3::ZERO),
+        Medium::biaxial([1.6093, 1.6116, 1.6194], z, x).unwrap()
+    );
+    // Parallel or zero axes, a one-axis orientation, bad names.
+    assert!(m
+        .clone()
+        .with_crystal_axes(z, -2.0 * z)
+        .unwrap_err()
+        .contains("not parallel"));
+    assert!(m.clone().with_crystal_axes(DVec3::ZERO, x).is_err());
+    assert!(m.clone().with_axis(z).unwrap_err().contains("biaxial"));
+    assert!(Material::parse("calcite")
+        .unwrap()
+        .with_crystal_axes(z, x)
+        .is_err());
+    for bad in [
+        "biaxial:1.6:1.7",
+        "biaxial:1.6:x:1.7",
+        "biaxial:1.6:1.7:-1",
+        "biaxial:1:2:3:4",
+    ] {
+        assert!(Material::parse(bad).is_err(), "{bad}");
+    }
+    // Three equal indices: ε = n² I, the isotropic medium.
+    let eq = Material::parse("biaxial:1.7:1.7:1.7").unwrap();
+    assert_eq!(eq.medium(550.0, DVec3::ZERO), Medium::Isotropic { n: 1.7 });
+}
