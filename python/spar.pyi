@@ -257,8 +257,9 @@ def interface(
     to: str,
     *,
     incident: Vector,
-    mode: Literal["s", "p", "o", "e"],
+    mode: Literal["s", "p", "o", "e", "fast", "slow"],
     axis: Vector | None = None,
+    axis_x: Vector | None = None,
     normal: Vector | None = None,
     wavelength: float = 589.3,
 ) -> list[Wave]:
@@ -267,9 +268,12 @@ def interface(
     prints them.
 
     from_, to: media (a built-in name such as air, n-bk7, calcite, quartz,
-    sapphire, diamond; "iso:N"; "uniaxial:NO:NE"). incident: the incident
-    wave vector's direction, toward the interface. axis: the optic axis of
-    whichever side is uniaxial (default z). normal: the interface normal,
+    sapphire, diamond; "iso:N"; "uniaxial:NO:NE"; "biaxial:NX:NY:NZ").
+    incident: the incident wave vector's direction, toward the interface.
+    mode: s or p (isotropic), o or e (uniaxial), fast or slow (biaxial).
+    axis: the optic axis of whichever side is uniaxial, or a biaxial
+    side's crystal z (default z). axis_x: a biaxial side's crystal x, made
+    normal to axis (default x). normal: the interface normal,
     into the from_ medium (default z). Vectors are 3 numbers or "x,y,z".
     Errors carry the command line's messages (which name its flags)."""
 

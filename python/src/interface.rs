@@ -28,7 +28,7 @@ fn vector(name: &str, value: &Bound<'_, PyAny>) -> PyResult<String> {
 /// `spar interface --json` prints them (a list of dicts with side, mode,
 /// k, ray, evanescent, energy; reflected first, then transmitted).
 #[pyfunction]
-#[pyo3(signature = (from_, to, *, incident, mode, axis=None, normal=None, wavelength=589.3))]
+#[pyo3(signature = (from_, to, *, incident, mode, axis=None, axis_x=None, normal=None, wavelength=589.3))]
 #[allow(clippy::too_many_arguments)]
 pub fn interface<'py>(
     py: Python<'py>,
@@ -37,6 +37,7 @@ pub fn interface<'py>(
     incident: &Bound<'py, PyAny>,
     mode: String,
     axis: Option<&Bound<'py, PyAny>>,
+    axis_x: Option<&Bound<'py, PyAny>>,
     normal: Option<&Bound<'py, PyAny>>,
     wavelength: f64,
 ) -> PyResult<Bound<'py, PyAny>> {
@@ -47,9 +48,12 @@ pub fn interface<'py>(
             Some(a) => vector("axis", a)?,
             None => "0,0,1".into(),
         },
-        // A biaxial side's crystal x: the CLI's default (+x, made normal
-        // to `axis`); Python has no argument for it yet.
-        axis_x: "1,0,0".into(),
+        // A biaxial side's crystal x (made normal to `axis`), +x by
+        // default as on the command line.
+        axis_x: match axis_x {
+            Some(a) => vector("axis_x", a)?,
+            None => "1,0,0".into(),
+        },
         normal: match normal {
             Some(n) => vector("normal", n)?,
             None => "0,0,1".into(),

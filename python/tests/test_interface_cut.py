@@ -23,6 +23,22 @@ def test_interface_is_the_cli_json(run_spar):
     assert abs(doc["energy_sum"] - 1.0) < 1e-9
 
 
+def test_a_biaxial_interface_is_the_cli_json(run_spar):
+    cli = run_spar(
+        "interface", "--from", "air", "--to", "biaxial:1.61:1.62:1.63",
+        "--axis", "0,0.6,0.8", "--axis-x", "1,1,0",
+        "--incident", "0.3,0,-1", "--mode", "s", "--json",
+    )
+    doc = json.loads(cli.stdout)
+    waves = spar.interface(
+        "air", "biaxial:1.61:1.62:1.63", incident=(0.3, 0, -1), mode="s",
+        axis=(0, 0.6, 0.8), axis_x=(1, 1, 0),
+    )
+    assert waves == doc["waves"]
+    assert sorted(w["mode"] for w in waves if w["side"] == "transmitted") == ["fast", "slow"]
+    assert abs(doc["energy_sum"] - 1.0) < 1e-9
+
+
 def test_interface_takes_text_vectors_and_a_wavelength(run_spar):
     cli = run_spar(
         "interface", "--from", "calcite", "--to", "air", "--axis", "0,1,1",
