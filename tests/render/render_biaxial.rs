@@ -33,20 +33,9 @@ radiance = 1.0
     )
 }
 
-/// Worst |I/I_bg − 1| and worst P over the image at 550 nm.
+/// Worst |I/I_bg − 1| and worst P over the image, and the nodes traced.
 fn worst(toml: &str) -> (f64, f64, u64) {
-    let (scene, _d) = common::scene(toml, &[]);
-    let (film, stats) = render_at(&scene, &[550.0]);
-    let bg = spar::spectrum::cie::d65(550.0);
-    let (mut di, mut dp) = (0.0f64, 0.0f64);
-    for y in 0..film.height {
-        for x in 0..film.width {
-            let s = film.stokes(x, y, 0);
-            let (p, _, _) = polarimetry(s);
-            di = di.max((s[0] / bg - 1.0).abs());
-            dp = dp.max(p);
-        }
-    }
+    let (di, dp, stats) = furnace_worst(toml);
     (di, dp, stats.nodes)
 }
 

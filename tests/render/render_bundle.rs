@@ -165,18 +165,7 @@ transform = {{ scale = 0.0416667, translate = [0.0, 0.0, -1.0] }}
 radiance = 1.0
 "#
         );
-        let (scene, _d) = common::scene(&toml, &[]);
-        let (film, stats) = render_at(&scene, &[550.0]);
-        let bg = spar::spectrum::cie::d65(550.0);
-        let (mut di, mut dp) = (0.0f64, 0.0f64);
-        for y in 0..film.height {
-            for x in 0..film.width {
-                let s = film.stokes(x, y, 0);
-                let (p, _, _) = polarimetry(s);
-                di = di.max((s[0] / bg - 1.0).abs());
-                dp = dp.max(p);
-            }
-        }
+        let (di, dp, stats) = furnace_worst(&toml);
         eprintln!(
             "{medium} furnace, bundled, depth {depth}: worst |I − 1| = {di:.2e}, worst P = \
              {dp:.2e}, {} bundled nodes, {} splits, {} rays",

@@ -170,3 +170,23 @@ pub fn render_model(
     scene.settings.approx.strategy.coherence = model;
     render_with(&scene, lambdas, accel)
 }
+
+/// A white furnace's result: the worst |I/I_bg − 1| and the worst degree
+/// of polarization over the image at 550 nm (the background is a
+/// radiance-1 light, D65(550 nm)), and the render's counters.
+#[allow(dead_code)] // in the crates that do not use it
+pub fn furnace_worst(toml: &str) -> (f64, f64, Stats) {
+    let (scene, _d) = scene(toml, &[]);
+    let (film, stats) = render_at(&scene, &[550.0]);
+    let bg = spar::spectrum::cie::d65(550.0);
+    let (mut di, mut dp) = (0.0f64, 0.0f64);
+    for y in 0..film.height {
+        for x in 0..film.width {
+            let s = film.stokes(x, y, 0);
+            let (p, _, _) = polarimetry(s);
+            di = di.max((s[0] / bg - 1.0).abs());
+            dp = dp.max(p);
+        }
+    }
+    (di, dp, stats)
+}
