@@ -69,6 +69,7 @@ class Settings(TypedDict):
     spectral: str
     dispersion: str
     bundle: float
+    roulette: float
     adaptive: float
     min_samples: int
 
@@ -105,6 +106,11 @@ class Scene:
     bundle: float
     """o/e bundle tolerance in pixel footprints (0: every eigenwave its
     own ray, the exact tree); needs coherence "incoherent"."""
+    roulette: float
+    """Russian roulette threshold, a fraction of the brightest light: a
+    subtree expected to carry less is traced with probability in
+    proportion and weighted up (unbiased, noisier in dim light; 0: off,
+    the exact tree)."""
     adaptive: float
     """Adaptive sampling: a pixel stops once the standard error of its
     mean is at most this, in display units (0: off; samples is then the
@@ -140,6 +146,7 @@ class Scene:
         spectral: str | None = ...,
         dispersion: str | None = ...,
         bundle: float | None = ...,
+        roulette: float | None = ...,
         adaptive: float | None = ...,
         min_samples: int | None = ...,
     ) -> None:
@@ -170,6 +177,7 @@ class Scene:
         spectral: str | None = ...,
         dispersion: str | None = ...,
         bundle: float | None = ...,
+        roulette: float | None = ...,
         adaptive: float | None = ...,
         min_samples: int | None = ...,
     ) -> Render:

@@ -98,7 +98,8 @@ impl Scene {
 impl Scene {
     /// Changes several settings at once (samples, resolution, wavelengths,
     /// max_depth, prune, seed, quality, branching, polarization,
-    /// coherence, spectral, dispersion, bundle, adaptive, min_samples),
+    /// coherence, spectral, dispersion, bundle, roulette, adaptive,
+    /// min_samples),
     /// checked together as the command line checks its flags: `quality` is a preset the others override.
     /// On an error nothing changes.
     #[pyo3(signature = (**settings))]
@@ -244,6 +245,17 @@ impl Scene {
     #[setter]
     fn set_bundle(&mut self, value: &Bound<'_, PyAny>) -> PyResult<()> {
         self.set_one("bundle", value)
+    }
+
+    /// Russian roulette threshold, a fraction of the brightest light (0:
+    /// off, the exact tree).
+    #[getter]
+    fn roulette(&self) -> f64 {
+        self.inner.settings.approx.strategy.roulette
+    }
+    #[setter]
+    fn set_roulette(&mut self, value: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.set_one("roulette", value)
     }
 
     /// Adaptive sampling: a pixel stops taking samples once the standard

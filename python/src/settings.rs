@@ -33,6 +33,7 @@ pub const NAMES: [&str; 15] = [
     "spectral",
     "dispersion",
     "bundle",
+    "roulette",
     "adaptive",
     "min_samples",
 ];
@@ -174,6 +175,7 @@ fn set(o: &mut SceneOverrides, name: &str, value: &Bound<'_, PyAny>) -> PyResult
         "spectral" => o.spectral = Some(parsed::<Spectral>(name, value)?),
         "dispersion" => o.dispersion = Some(parsed::<DispersionMode>(name, value)?),
         "bundle" => o.bundle = Some(real(name, value)?),
+        "roulette" => o.roulette = Some(real(name, value)?),
         "adaptive" => o.adaptive = Some(real(name, value)?),
         "min_samples" => o.min_samples = Some(whole(name, value)?),
         other => {
@@ -233,6 +235,7 @@ pub fn as_dict<'py>(py: Python<'py>, scene: &Scene) -> PyResult<Bound<'py, PyDic
     d.set_item("spectral", s.approx.spectral.to_string())?;
     d.set_item("dispersion", s.approx.dispersion.to_string())?;
     d.set_item("bundle", s.approx.strategy.bundle)?;
+    d.set_item("roulette", s.approx.strategy.roulette)?;
     d.set_item("adaptive", s.adaptive.noise)?;
     d.set_item("min_samples", s.adaptive.min_samples)?;
     Ok(d)

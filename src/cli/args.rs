@@ -176,6 +176,13 @@ pub struct SceneOverrides {
     /// incoherent. Overrides the scene.
     #[arg(long, value_name = "TOL")]
     pub bundle: Option<f64>,
+    /// Russian roulette: a subtree expected to carry less than X of the
+    /// brightest light is traced with probability proportional to what it
+    /// carries and weighted up, so the image stays unbiased and gets
+    /// noisier where light is dim (0: off, the exact tree). Overrides the
+    /// scene.
+    #[arg(long, value_name = "X")]
+    pub roulette: Option<f64>,
     /// Adaptive sampling: each pixel stops taking samples once the standard
     /// error of its mean is at most NOISE in display units (colour as
     /// sRGB values in 0..1, polarization in units of a white pixel),
@@ -249,6 +256,7 @@ impl SceneOverrides {
             dispersion: set(self.dispersion, "--dispersion", origin),
             coherence: set(self.coherence, "--coherence", origin),
             bundle: set(self.bundle, "--bundle", origin),
+            roulette: set(self.roulette, "--roulette", origin),
             adaptive: set(self.adaptive, "--adaptive", origin),
             min_samples: set(self.min_samples, "--min-samples", origin),
         };
@@ -368,6 +376,9 @@ impl SceneOverrides {
         }
         if let Some(b) = self.bundle {
             a.extend(["--bundle".into(), b.to_string()]);
+        }
+        if let Some(r) = self.roulette {
+            a.extend(["--roulette".into(), r.to_string()]);
         }
         if let Some(n) = self.adaptive {
             a.extend(["--adaptive".into(), n.to_string()]);

@@ -137,6 +137,9 @@ impl RenderInfo {
                 let a = &scene.settings.approx;
                 let mut s = format!("{a} coherence={}", a.strategy.coherence);
                 // Only when on, so the identities of earlier renders stand.
+                if a.strategy.roulette > 0.0 {
+                    s += &format!(" roulette={}", a.strategy.roulette);
+                }
                 if a.strategy.bundle > 0.0 {
                     s += &format!(" bundle={}", a.strategy.bundle);
                 }

@@ -326,6 +326,38 @@ impl Coherence {
         }
     }
 
+    /// The Stokes parameters as the linear map of `J` (S0 = Jxx + Jyy, S1 =
+    /// Jxx − Jyy, S2 = 2 Re Jxy, S3 = 2 Im Jxy; one mode: (I, I, 0, 0)),
+    /// without [`Self::stokes`]'s clipping to a physical state: the form a
+    /// sum of unbiased estimates needs, since clipping each estimate would
+    /// bias the sum. Non-finite entries as in [`Self::stokes`].
+    pub fn stokes_linear(&self) -> Stokes {
+        let (xx, yy, re, im) = if self.modes == 1 {
+            (finite(self.xx), 0.0, 0.0, 0.0)
+        } else {
+            (
+                finite(self.xx),
+                finite(self.yy),
+                finite(self.xy.re),
+                finite(self.xy.im),
+            )
+        };
+        if self.modes == 1 {
+            return Stokes {
+                s0: xx,
+                s1: xx,
+                s2: 0.0,
+                s3: 0.0,
+            };
+        }
+        Stokes {
+            s0: finite(xx + yy),
+            s1: finite(xx - yy),
+            s2: finite(2.0 * re),
+            s3: finite(2.0 * im),
+        }
+    }
+
     /// `(scale, S / scale)`: the Stokes parameters divided by the largest
     /// entry magnitude of `J`, PSD-clipped, each of magnitude at most 4.
     /// `scale = 0` (and zero parameters) for zero or all-NaN input.

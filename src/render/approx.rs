@@ -91,6 +91,11 @@ pub struct Strategy {
     /// (`render::bundle`); 0: every eigenwave its own ray (the exact
     /// tree).
     pub bundle: f64,
+    /// Russian roulette threshold (`render::integrator::Tracer::roulette`):
+    /// subtrees expected to carry less than this fraction of the brightest
+    /// emitter are traced with probability proportional to it and
+    /// weighted up (unbiased); 0: off (the exact tree).
+    pub roulette: f64,
 }
 
 /// How the colour wavelengths are sampled.

@@ -65,6 +65,8 @@ struct Bundle {
     /// (each keeps its angle along every later segment), summed along the
     /// path.
     pub drift: f64,
+    /// The sampling weights along the path (as [`Query::weight`]).
+    pub weight: f64,
 }
 
 impl Bundle {
@@ -88,6 +90,7 @@ impl Bundle {
             throughput,
             path,
             drift: self.drift,
+            weight: self.weight,
         }
     }
 }
@@ -180,6 +183,7 @@ impl Tracer<'_> {
                 throughput,
                 path: q.path.wrapping_mul(4).wrapping_add(io as u64 + 1),
                 drift: q.drift,
+                weight: q.weight,
             };
             let (child_out, deeper) = scratch.split_at_mut(n);
             self.bundle_radiance(&b, batch, key, child_out, deeper, stats);
@@ -367,6 +371,7 @@ impl Tracer<'_> {
                         throughput,
                         path: b.path.wrapping_mul(4).wrapping_add(1),
                         drift,
+                        weight: b.weight,
                     };
                     let (child_out, deeper) = scratch.split_at_mut(n);
                     self.bundle_radiance(&child, batch, key, child_out, deeper, stats);
@@ -460,6 +465,7 @@ impl Tracer<'_> {
                 throughput,
                 path: b.path.wrapping_mul(8).wrapping_add(5 + a as u64),
                 drift: b.drift,
+                weight: b.weight,
             };
             self.bundle_radiance(&child, batch, key, child_out, deeper, stats);
             let block = pair_block(&fo.block, &fe.block);
@@ -543,6 +549,7 @@ impl Tracer<'_> {
                 path: b.path.wrapping_mul(2).wrapping_add(a as u64),
                 drift: b.drift,
                 anchor: m.anchor,
+                weight: b.weight,
             };
             let (member_out, deeper) = scratch.split_at_mut(n);
             // A member's own wave has one mode: its basis is unused.

@@ -84,6 +84,21 @@ struct Leaf {
     /// The intensity the path keeps through absorbing media, per
     /// wavelength: an entry of [`Scratch::kept`] (`UNABSORBED`: all).
     kept: u32,
+    /// The last roulette decision on the path: an entry of
+    /// [`Scratch::roulette`] (`UNROULETTED`: none).
+    roulette: u32,
+}
+
+/// A path that no roulette decision weighted.
+const UNROULETTED: u32 = u32::MAX;
+
+/// One roulette decision a path survived (Russian roulette, integrator's
+/// [`Tracer::roulette`]): the decision above it on the same path, and the
+/// product of 1/p of every decision from the camera down to this one.
+#[derive(Clone, Copy, Debug)]
+struct Decision {
+    parent: u32,
+    weight: f64,
 }
 
 /// A path that crossed no absorbing medium.
@@ -115,6 +130,11 @@ struct Path {
     /// The intensity kept through absorbing media so far, per
     /// wavelength (an entry of [`Scratch::kept`], or `UNABSORBED`).
     kept: u32,
+    /// The sampling weights from the camera to this ray (as the incoherent
+    /// tree's `Query::weight`: what roulette compares).
+    weight: f64,
+    /// The last roulette decision on the path (`UNROULETTED`: none).
+    roulette: u32,
 }
 
 /// What every backward ray of one camera sample's walk shares: the
@@ -125,6 +145,7 @@ struct Walk<'b> {
     key: &'b SampleKey,
     leaves: &'b mut Vec<Leaf>,
     kept: &'b mut Vec<f64>,
+    roulette: &'b mut Vec<Decision>,
 }
 
 thread_local! {
@@ -149,6 +170,9 @@ struct Scratch {
     /// (Beer–Lambert, docs/physics.md §11); a path's amplitude keeps its
     /// square root. Appended as paths cross absorbing segments.
     kept: Vec<f64>,
+    /// The roulette decisions the sample's paths survived, appended as
+    /// they are made (a decision's parent comes before it).
+    roulette: Vec<Decision>,
 }
 
 impl Scratch {
@@ -160,6 +184,7 @@ impl Scratch {
             members: Vec::new(),
             acc: Vec::new(),
             kept: Vec::new(),
+            roulette: Vec::new(),
         }
     }
 }
@@ -174,6 +199,34 @@ fn source_basis(k: DVec3, r: DVec3) -> [DVec3; 2] {
         e1 = k.any_orthonormal_vector();
     }
     [e1, k.cross(e1)]
+}
+
+/// The factor that turns the product of two paths' amplitudes, each
+/// carrying √(1/p) of its own roulette decisions, into the weight the
+/// pair's cross term needs: 1/p of every decision on either path, a
+/// decision both share counted once. The cumulative weights of paths `a`
+/// and `b` are `W_a`, `W_b` and of their shared decisions `W_s`: the
+/// factor is `√(W_a W_b) / W_s`.
+fn roulette_pair(decisions: &[Decision], a: u32, b: u32) -> f64 {
+    let weight = |d: u32| {
+        if d == UNROULETTED {
+            1.0
+        } else {
+            decisions[d as usize].weight
+        }
+    };
+    // The deepest decision on both paths: parents precede their children,
+    // so step the later of the two up until they meet.
+    let (mut x, mut y) = (a, b);
+    while x != y && x != UNROULETTED && y != UNROULETTED {
+        if x > y {
+            x = decisions[x as usize].parent;
+        } else {
+            y = decisions[y as usize].parent;
+        }
+    }
+    let shared = if x == y { weight(x) } else { 1.0 };
+    (weight(a) * weight(b)).sqrt() / shared
 }
 
 /// `sin(x) / x`, the Fourier transform of a rectangle: the coherence of a
@@ -231,6 +284,7 @@ impl Tracer<'_> {
             let scratch = &mut *cell.borrow_mut();
             scratch.leaves.clear();
             scratch.kept.clear();
+            scratch.roulette.clear();
             let root = Path {
                 origin,
                 anchor: origin,
@@ -244,12 +298,15 @@ impl Tracer<'_> {
                 opl: 0.0,
                 a: Jones::identity(2),
                 kept: UNABSORBED,
+                weight: 1.0,
+                roulette: UNROULETTED,
             };
             let mut walk = Walk {
                 batch,
                 key,
                 leaves: &mut scratch.leaves,
                 kept: &mut scratch.kept,
+                roulette: &mut scratch.roulette,
             };
             self.walk(&root, &basis, &mut walk, stats);
             stats.coherent += self.sum_leaves(scratch, batch, out);
@@ -333,12 +390,39 @@ impl Tracer<'_> {
                 stats.pruned += 1;
                 continue;
             }
+            let branch = if sampled {
+                p.branch
+            } else {
+                p.branch.wrapping_mul(4).wrapping_add(i as u64 + 1)
+            };
+            let Some(survived) =
+                self.roulette(throughput * p.weight * weight, p.depth, branch, w.key)
+            else {
+                stats.rouletted += 1;
+                continue;
+            };
+            // A roulette survivor's 1/p goes on its intensity (√ on its
+            // amplitude); the decision is recorded so that pairs of
+            // coherent paths weight it once per decision (`add_group`).
+            let mut roulette = p.roulette;
+            if survived != 1.0 {
+                let above = if roulette == UNROULETTED {
+                    1.0
+                } else {
+                    w.roulette[roulette as usize].weight
+                };
+                roulette = w.roulette.len() as u32;
+                w.roulette.push(Decision {
+                    parent: p.roulette,
+                    weight: above * survived,
+                });
+            }
             let (region, offset) = feeder_side(f.wave.side, p.region, other, normal);
             // A sampled branch stands for its siblings with weight 1/p on
             // its intensity: √weight on its amplitude.
             let mut a = a_node.product(&f.block);
-            if weight != 1.0 {
-                a = a.scaled(c(weight.sqrt()));
+            if weight * survived != 1.0 {
+                a = a.scaled(c((weight * survived).sqrt()));
             }
             let child = Path {
                 // Traced from the backend's hit, as the incoherent tree is
@@ -351,15 +435,13 @@ impl Tracer<'_> {
                 kind: f.wave.kind,
                 depth: p.depth + 1,
                 throughput,
-                branch: if sampled {
-                    p.branch
-                } else {
-                    p.branch.wrapping_mul(4).wrapping_add(i as u64 + 1)
-                },
+                branch,
                 k: f.wave.k,
                 opl,
                 a,
                 kept,
+                weight: p.weight * weight * survived,
+                roulette,
             };
             self.walk(&child, &f.wave.basis, w, stats);
         }
@@ -414,6 +496,7 @@ impl Tracer<'_> {
             st,
             extent,
             kept: p.kept,
+            roulette: p.roulette,
         });
         true
     }
@@ -434,6 +517,7 @@ impl Tracer<'_> {
             members,
             acc,
             kept,
+            roulette,
         } = scratch;
         let mut coherent = 0;
         acc.clear();
@@ -472,7 +556,7 @@ impl Tracer<'_> {
             if members.len() > 1 {
                 coherent += members.len() as u64;
             }
-            self.add_group(leaves, members, kept, batch, acc);
+            self.add_group(leaves, members, (kept, roulette), batch, acc);
         }
         for (o, a) in out.iter_mut().zip(acc.iter()) {
             *o = Coherence::from_matrix(*a);
@@ -486,7 +570,7 @@ impl Tracer<'_> {
         &self,
         leaves: &[Leaf],
         members: &[u32],
-        kept: &[f64],
+        (kept, roulette): (&[f64], &[Decision]),
         batch: &[WavelengthMedia],
         acc: &mut [[[Complex64; 2]; 2]],
     ) {
@@ -580,7 +664,12 @@ impl Tracer<'_> {
                     if gamma == 0.0 {
                         continue;
                     }
-                    let phase = Complex64::from_polar(gamma * (ri * rj).sqrt(), k0 * dl);
+                    // Each amplitude carries √(1/p) of its path's roulette
+                    // decisions; the pair's term needs 1/p once per
+                    // decision on either path (unbiased: a shared decision
+                    // keeps or drops both).
+                    let pair = roulette_pair(roulette, li.roulette, lj.roulette);
+                    let phase = Complex64::from_polar(gamma * (ri * rj).sqrt() * pair, k0 * dl);
                     let x = sandwich(&li.m, &j_l, &lj.m);
                     // X + Xᴴ: the (i, j) and (j, i) terms.
                     for r in 0..2 {

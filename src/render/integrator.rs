@@ -91,6 +91,8 @@ pub struct Stats {
     /// Camera samples taken (pixels × samples, fewer with adaptive
     /// sampling).
     pub samples: u64,
+    /// Subtrees ended by Russian roulette (`roulette`, [`Tracer::roulette`]).
+    pub rouletted: u64,
 }
 
 /// Lost rays by cause. Rays stopped by the depth limit are not lost light
@@ -138,6 +140,7 @@ impl std::ops::AddAssign for Stats {
         self.bundled += o.bundled;
         self.splits += o.splits;
         self.samples += o.samples;
+        self.rouletted += o.rouletted;
     }
 }
 
@@ -377,6 +380,10 @@ pub(super) struct Query {
     /// The surface point the segment leaves (`origin` is a little off
     /// it): where an absorbing segment's length is measured from.
     pub anchor: DVec3,
+    /// The product of the sampling weights (1/p of sampled branches and of
+    /// roulette) from the camera to this ray: with `throughput`, what
+    /// roulette compares with its threshold. 1 in the exact tree.
+    pub weight: f64,
 }
 
 /// Largest squared singular value of a Jones block: the most intensity it
@@ -535,6 +542,18 @@ impl<'a> Tracer<'a> {
             && self.strategy.polarization == PolarizationModel::Full
     }
 
+    /// True when one camera sample's estimate may be an unphysical
+    /// coherence matrix (a negative intensity or a degree of polarization
+    /// above 1) while the mean of many is right: sampled decisions (roulette,
+    /// sampled branching) in the physical model, where a surviving path's
+    /// weighted cross terms with its partners can outweigh its own light.
+    /// Such estimates are summed as they are (`Coherence::stokes_linear`):
+    /// clipping each to a physical state would bias the image.
+    pub fn estimates_may_be_unphysical(&self) -> bool {
+        self.is_coherent()
+            && (self.strategy.roulette > 0.0 || self.strategy.branching != Branching::Full)
+    }
+
     /// The coherence matrix, in the basis `basis` (two unit vectors
     /// transverse to `dir`), of the light arriving at `origin` along `−dir`
     /// in air: a camera ray at one wavelength, with the full tree (a
@@ -600,6 +619,7 @@ impl<'a> Tracer<'a> {
             path: 0,
             drift: 0.0,
             anchor: origin,
+            weight: 1.0,
         };
         // One slot of `batch` matrices per level of the tree below the root
         // (twice that with bundles: a bundle that splits hands its members
@@ -807,6 +827,33 @@ impl<'a> Tracer<'a> {
         (sampled, (chosen, n_chosen))
     }
 
+    /// Russian roulette (Arvo & Kirk 1990) for a subtree whose expected
+    /// contribution is `effective` (its path's throughput times its sampling
+    /// weights) of the brightest emitter: below the threshold it is traced
+    /// with probability p = effective / threshold and its light weighted by
+    /// 1/p, so the estimate stays unbiased. Returns the factor to weight it
+    /// by (1 above the threshold or with roulette off), or `None` when the
+    /// subtree is dropped. `stream` names the subtree's random number.
+    #[inline]
+    pub(super) fn roulette(
+        &self,
+        effective: f64,
+        depth: u32,
+        stream: u64,
+        key: &SampleKey,
+    ) -> Option<f64> {
+        let threshold = self.strategy.roulette;
+        if !(effective < threshold) {
+            return Some(1.0);
+        }
+        let p = effective / threshold;
+        if key.uniform_at(dim::ROULETTE + depth, stream) < p {
+            Some(1.0 / p)
+        } else {
+            None
+        }
+    }
+
     fn medium_of(&self, region: Region, media: &WavelengthMedia) -> Medium {
         match region {
             Region::Ambient => AMBIENT,
@@ -971,6 +1018,17 @@ impl<'a> Tracer<'a> {
                 stats.pruned += 1;
                 continue;
             }
+            let path = if sampled {
+                q.path
+            } else {
+                q.path.wrapping_mul(4).wrapping_add(i as u64 + 1)
+            };
+            let Some(survived) = self.roulette(throughput * q.weight * weight, q.depth, path, key)
+            else {
+                stats.rouletted += 1;
+                continue;
+            };
+            let weight = weight * survived;
             let (region, offset) = feeder_side(f.wave.side, q.region, other, normal);
             let child = Query {
                 origin: point + self.epsilon(hit.geom) * offset,
@@ -979,13 +1037,10 @@ impl<'a> Tracer<'a> {
                 kind: f.wave.kind,
                 depth: q.depth + 1,
                 throughput,
-                path: if sampled {
-                    q.path
-                } else {
-                    q.path.wrapping_mul(4).wrapping_add(i as u64 + 1)
-                },
+                path,
                 drift: q.drift,
                 anchor: point,
+                weight: q.weight * weight,
             };
             let (child_out, deeper) = scratch.split_at_mut(n);
             self.radiance(&child, &f.wave.basis, batch, key, child_out, deeper, stats);

@@ -312,6 +312,8 @@ pub fn render_part(
     let stride = opts.approx.spectral.stride(colour);
     let batches = batches_by_offset(scene, opts, stride);
     let tracer = Tracer::new(scene, accel, opts.tree).with_strategy(opts.approx.strategy);
+    // Sum each sample as it is where one sample alone may be unphysical.
+    let linear = tracer.estimates_may_be_unphysical();
     let nch = opts.lambdas.len() * 4;
     let nodes = spec.samples.nodes();
     let measure = opts.adaptive.is_on().then(|| {
@@ -417,9 +419,14 @@ pub fn render_part(
                                     // for the `stride` samples it is traced
                                     // in one of.
                                     let w = if i < colour { stride as f64 } else { 1.0 };
-                                    let s = match &camera.analyzer {
-                                        Some(a) => j.transform(a).stokes(),
-                                        None => j.stokes(),
+                                    let j = match &camera.analyzer {
+                                        Some(a) => j.transform(a),
+                                        None => *j,
+                                    };
+                                    let s = if linear {
+                                        j.stokes_linear()
+                                    } else {
+                                        j.stokes()
                                     };
                                     v[4 * i..4 * i + 4].copy_from_slice(&[
                                         (w * s.s0) as f32,

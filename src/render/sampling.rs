@@ -24,6 +24,9 @@ pub mod dim {
     /// First dimension of branch selection; node `i` of a path uses
     /// `BRANCH + i`.
     pub const BRANCH: u32 = 16;
+    /// First dimension of Russian roulette; a node at depth `i` uses
+    /// `ROULETTE + i` (far above any branch dimension).
+    pub const ROULETTE: u32 = 1 << 20;
 }
 
 /// The splitmix64 finalizer (Steele, Lea & Flood 2014): a bijection on u64

@@ -85,6 +85,8 @@ pub struct SettingsLayer {
     pub coherence: Option<Set<CoherenceModel>>,
     /// o/e bundle tolerance in pixel footprints (0: the exact tree).
     pub bundle: Option<Set<f64>>,
+    /// Russian roulette threshold (0: off; `Tracer::roulette`).
+    pub roulette: Option<Set<f64>>,
     /// Adaptive sampling's noise target (0: off; render::adaptive).
     pub adaptive: Option<Set<f64>>,
     /// Samples before adaptive sampling's first check.
@@ -149,6 +151,7 @@ pub enum Field {
     MaxDepth,
     Prune,
     Bundle,
+    Roulette,
     Adaptive,
     MinSamples,
 }
@@ -285,6 +288,18 @@ impl SettingsLayer {
                 ));
             }
             s.render.approx.strategy.bundle = b.value;
+        }
+        if let Some(r) = &self.roulette {
+            if !(r.value.is_finite() && (0.0..1.0).contains(&r.value)) {
+                return Err(err(
+                    &r.origin,
+                    Field::Roulette,
+                    "must be a fraction of the brightest light in [0, 1) (e.g. 0.01; 0: off, \
+                     the exact tree)"
+                        .into(),
+                ));
+            }
+            s.render.approx.strategy.roulette = r.value;
         }
         if let Some(a) = &self.adaptive {
             if !(a.value.is_finite() && a.value >= 0.0) {

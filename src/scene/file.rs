@@ -20,6 +20,7 @@
 //! seed = 0
 //! coherence = "physical"       # or "incoherent" (every path adds as an intensity)
 //! bundle = 0                   # o and e as one ray within N pixel footprints (incoherent only)
+//! roulette = 0                 # Russian roulette below this fraction of the brightest light; 0: off
 //! adaptive = 0                 # a pixel stops at this standard error (display units); 0: off
 //! min_samples = 32             # samples before adaptive sampling's first check
 //! units = "mm"                 # one scene unit: nm, um (µm), mm, cm or m
@@ -323,6 +324,8 @@ pub struct RenderDef {
     pub coherence: Option<Spanned<String>>,
     /// o/e bundle tolerance, pixel footprints (render::bundle).
     pub bundle: Option<Spanned<f64>>,
+    /// Russian roulette threshold (render::integrator; 0: off).
+    pub roulette: Option<Spanned<f64>>,
     /// Adaptive sampling's noise target (render::adaptive; 0: off).
     pub adaptive: Option<Spanned<f64>>,
     /// Samples before adaptive sampling's first check.

@@ -233,6 +233,10 @@ impl Scene {
                 .bundle
                 .as_ref()
                 .map(|b| Set::new(*b.get_ref(), origin(b.span(), "render.bundle"))),
+            roulette: r
+                .roulette
+                .as_ref()
+                .map(|v| Set::new(*v.get_ref(), origin(v.span(), "render.roulette"))),
             adaptive: r
                 .adaptive
                 .as_ref()

@@ -357,6 +357,61 @@ fn bundle_flag_needs_the_incoherent_model_and_is_part_of_the_identity() {
 }
 
 #[test]
+fn roulette_is_checked_and_joins_the_identity_only_when_on() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("scene.toml"), SCENE).unwrap();
+    for bad in ["-0.1", "1", "nan", "inf"] {
+        refused(
+            d,
+            &["render", "scene.toml", "--roulette", bad, "-o", "a.png"],
+            &["--roulette", "fraction of the brightest light"],
+        );
+    }
+    std::fs::write(
+        d.join("bad.toml"),
+        SCENE.replace("wavelengths = 8", "wavelengths = 8\nroulette = 2.0"),
+    )
+    .unwrap();
+    refused(
+        d,
+        &["render", "bad.toml", "-o", "a.png"],
+        &[
+            "bad.toml:",
+            "render.roulette",
+            "fraction of the brightest light",
+        ],
+    );
+    assert!(!d.join("a.png").exists());
+    std::fs::write(
+        d.join("rouletted.toml"),
+        SCENE.replace("wavelengths = 8", "wavelengths = 8\nroulette = 0.01"),
+    )
+    .unwrap();
+    let (code, o, e) = spar(d, &["render", "rouletted.toml", "-q", "-o", "b.png"]);
+    assert_eq!(code, 0, "{o}{e}");
+    let s = settings(&d.join("b.png"));
+    assert!(s.ends_with(" coherence=physical roulette=0.01"), "{s}");
+    // The flag beats the scene; off (0) leaves the identity as before
+    // roulette existed.
+    let (code, o, e) = spar(
+        d,
+        &[
+            "render",
+            "rouletted.toml",
+            "--roulette",
+            "0",
+            "-q",
+            "-o",
+            "c.png",
+        ],
+    );
+    assert_eq!(code, 0, "{o}{e}");
+    let s = settings(&d.join("c.png"));
+    assert!(s.ends_with(" coherence=physical"), "{s}");
+}
+
+#[test]
 fn adaptive_flags_are_checked_refuse_sample_blocks_and_join_the_identity() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();

@@ -19,6 +19,7 @@ mod render_hard_cases;
 mod render_lost_light;
 mod render_model_only_needed;
 mod render_physics;
+mod render_roulette;
 mod render_strategies;
 mod scene_features;
 mod scene_vectors;

@@ -33,7 +33,7 @@ pub struct SpeedErrorArgs {
     pub output: PathBuf,
     /// Settings to measure, one per flag: space-separated `key=value`
     /// (depth, prune, spp, wavelengths, spectral, branching, polarization,
-    /// dispersion, quality, seed, coherence, bundle, adaptive,
+    /// dispersion, quality, seed, coherence, bundle, roulette, adaptive,
     /// min_samples). Default: a built-in sweep around the scene's settings
     /// (docs/speed-vs-error.md).
     #[arg(long = "config")]

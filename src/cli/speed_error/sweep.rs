@@ -25,7 +25,7 @@ struct ConfigFlags {
 }
 
 /// A configuration's key and the `spar render` flag it stands for.
-const KEYS: [(&str, &str); 14] = [
+const KEYS: [(&str, &str); 15] = [
     ("depth", "--max-depth"),
     ("prune", "--prune"),
     ("spp", "--samples"),
@@ -38,6 +38,7 @@ const KEYS: [(&str, &str); 14] = [
     ("seed", "--seed"),
     ("coherence", "--coherence"),
     ("bundle", "--bundle"),
+    ("roulette", "--roulette"),
     ("adaptive", "--adaptive"),
     ("min_samples", "--min-samples"),
 ];
