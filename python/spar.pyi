@@ -228,7 +228,7 @@ class Render:
     """spar:version, spar:scene, spar:scene_hash, spar:settings: what the
     command line's files of the same render carry."""
     stats: dict[str, float]
-    """rays, nodes, pruned, depth_cut, coherent, lost; accel_seconds,
+    """rays, nodes, pruned, rouletted, depth_cut, coherent, lost; accel_seconds,
     render_seconds."""
 
     @property

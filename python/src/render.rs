@@ -66,7 +66,7 @@ pub struct Render {
     /// metadata of the command line's files for the same render.
     #[pyo3(get)]
     metadata: Py<PyDict>,
-    /// Rays, nodes, pruned, depth_cut, coherent, lost; accel_seconds,
+    /// Rays, nodes, pruned, rouletted, depth_cut, coherent, lost; accel_seconds,
     /// render_seconds.
     #[pyo3(get)]
     stats: Py<PyDict>,
@@ -294,6 +294,7 @@ fn develop_all(
     stats.set_item("rays", s.rays)?;
     stats.set_item("nodes", s.nodes)?;
     stats.set_item("pruned", s.pruned)?;
+    stats.set_item("rouletted", s.rouletted)?;
     stats.set_item("depth_cut", s.depth_cut)?;
     stats.set_item("coherent", s.coherent)?;
     stats.set_item("lost", s.lost)?;

@@ -583,7 +583,7 @@ fn print_summary(
         job.spec.samples.label()
     };
     eprintln!(
-        "{}x{} px, region {}, samples {}, {} wavelength(s): accel {} {:.2} s, render {:.2} s, {} rays ({:.2} M rays/s), {} nodes, {} pruned, {} cut by depth, {} coherent, {} lost{}",
+        "{}x{} px, region {}, samples {}, {} wavelength(s): accel {} {:.2} s, render {:.2} s, {} rays ({:.2} M rays/s), {} nodes, {} pruned{}, {} cut by depth, {} coherent, {} lost{}",
         job.scene.camera.width,
         job.scene.camera.height,
         job.spec.region,
@@ -596,6 +596,11 @@ fn print_summary(
         stats.rays as f64 / secs / 1e6,
         stats.nodes,
         stats.pruned,
+        if options.approx.strategy.roulette > 0.0 {
+            format!(", {} ended by roulette", stats.rouletted)
+        } else {
+            String::new()
+        },
         stats.depth_cut,
         stats.coherent,
         stats.lost,
