@@ -85,6 +85,11 @@ def test_a_bad_setting_is_refused_and_changes_nothing(repo):
     scene.set(adaptive=0.02, min_samples=4)
     assert (scene.adaptive, scene.min_samples) == (0.02, 4)
     assert scene.settings["adaptive"] == 0.02
+    with pytest.raises(spar.InputError, match="roulette must be a fraction"):
+        scene.roulette = 1.0
+    assert scene.roulette == 0.0
+    scene.roulette = 0.01
+    assert scene.settings["roulette"] == 0.01
 
 
 def test_render_arguments_are_checked_before_rendering(repo):
