@@ -34,9 +34,7 @@ pub fn centre(scene: &Scene) -> Option<DVec3> {
 /// rays start.
 pub fn tilted(scene: &Scene, degrees: f64) -> Result<Scene, String> {
     if !(degrees.is_finite() && (-90.0..=90.0).contains(&degrees)) {
-        return Err(format!(
-            "a tilt must be a finite number of degrees from -90 to 90"
-        ));
+        return Err("a tilt must be a finite number of degrees from -90 to 90".to_string());
     }
     let mut out = scene.clone();
     let Some(c) = centre(scene) else {
