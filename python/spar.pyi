@@ -180,6 +180,8 @@ class Scene:
         roulette: float | None = ...,
         adaptive: float | None = ...,
         min_samples: int | None = ...,
+        light_rig: str | None = ...,
+        tilt: float | None = ...,
     ) -> Render:
         """Renders the scene in one or more modes (a name, "color,stokes"
         or a sequence), as `spar render --mode …` does.
@@ -194,7 +196,13 @@ class Scene:
         The GIL is released while rendering. Ctrl-C (KeyboardInterrupt)
         stops the render after the tiles in flight and raises; the scene
         and the interpreter are unaffected. Lost light beyond 1e-4 of the
-        image is a UserWarning."""
+        image is a UserWarning.
+
+        light_rig: a built-in rig instead of the scene's lights ("ring",
+        "dome", "dome:DEG", "spot"; `spar render --light-rig`). tilt: the
+        stone tilted by this many degrees about the camera's horizontal
+        axis (`spar render --tilt`). Both for this render only (Scene.set
+        refuses them)."""
     def __repr__(self) -> str: ...
 
 class Render:

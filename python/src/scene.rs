@@ -104,6 +104,16 @@ impl Scene {
     /// On an error nothing changes.
     #[pyo3(signature = (**settings))]
     fn set(&mut self, settings: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
+        if let Some(d) = settings {
+            for name in settings::RENDER_ONLY {
+                if d.contains(name)? {
+                    return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+                        "{name} applies to one render: pass it to render(), which leaves the \
+                         scene as it is"
+                    )));
+                }
+            }
+        }
         let o = settings::overrides(settings)?;
         settings::apply(&mut self.inner, &o)
     }

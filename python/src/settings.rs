@@ -13,6 +13,7 @@ use spar::render::approx::{
     BranchingArg, CoherenceModel, DispersionMode, PolarizationArg, Spectral,
 };
 use spar::render::quality::Quality;
+use spar::render::rig::LightRig;
 use spar::render::settings::Origin;
 use spar::scene::Scene;
 use std::str::FromStr;
@@ -37,6 +38,12 @@ pub const NAMES: [&str; 15] = [
     "adaptive",
     "min_samples",
 ];
+
+/// What a render takes besides the settings: the lights and the stone's
+/// pose for that render only (`spar render --light-rig`, `--tilt`). They
+/// change the scene's lights and objects, not its settings, so
+/// `Scene.set` refuses them (a tilt set twice would add up).
+pub const RENDER_ONLY: [&str; 2] = ["light_rig", "tilt"];
 
 /// The Python name of a command-line flag: `--max-depth` → `max_depth`.
 fn python_name(flag: &str) -> String {
@@ -178,10 +185,13 @@ fn set(o: &mut SceneOverrides, name: &str, value: &Bound<'_, PyAny>) -> PyResult
         "roulette" => o.roulette = Some(real(name, value)?),
         "adaptive" => o.adaptive = Some(real(name, value)?),
         "min_samples" => o.min_samples = Some(whole(name, value)?),
+        "light_rig" => o.light_rig = Some(parsed::<LightRig>(name, value)?),
+        "tilt" => o.tilt = Some(real(name, value)?),
         other => {
             return Err(pyo3::exceptions::PyTypeError::new_err(format!(
-                "unknown setting `{other}`; the settings are {}",
-                NAMES.join(", ")
+                "unknown setting `{other}`; the settings are {} (and, for render, {})",
+                NAMES.join(", "),
+                RENDER_ONLY.join(", ")
             )))
         }
     }

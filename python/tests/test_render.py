@@ -149,3 +149,23 @@ def test_default_scene_renders():
     assert r["dop"].shape == (4, 6, 3)
     assert r.metadata["spar:scene"] == "(default scene)"
     assert r.stats["rays"] > 0
+
+
+def test_a_light_rig_and_a_tilt_are_the_cli_flags_for_one_render(run_spar, repo, tmp_path):
+    out = tmp_path / "rig.exr"
+    flags = ["--resolution", "12x8", "--samples", "1", "--accel", "rust"]
+    run_spar("render", SCENE, "--mode", "stokes", "--light-rig", "dome:40", "--tilt", "-12.5",
+             *flags, "-q", "-o", out)
+    channels, _ = exr(out)
+    scene = spar.load_scene(os.path.join(repo, SCENE))
+    r = scene.render(mode="stokes", light_rig="dome:40", tilt=-12.5, resolution=(12, 8),
+                     samples=1, accel="rust")
+    for i, l in enumerate(r.wavelengths):
+        for c in range(4):
+            assert np.array_equal(bits(channels[f"S{c}.{l:.0f}nm"]), bits(r.stokes[i, :, :, c]))
+    plain = scene.render(mode="stokes", resolution=(12, 8), samples=1, accel="rust")
+    assert not np.array_equal(bits(plain.stokes), bits(r.stokes))
+    with pytest.raises(TypeError, match="tilt applies to one render"):
+        scene.set(tilt=3)
+    with pytest.raises(spar.InputError, match="unknown light rig `studio`"):
+        scene.render(mode="color", light_rig="studio")

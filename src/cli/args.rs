@@ -11,9 +11,11 @@ use crate::render::blocks::SampleRange;
 use crate::render::prepare;
 use crate::render::quality::Quality;
 use crate::render::region::{Rect, TileSpec};
+use crate::render::rig::LightRig;
 use crate::render::settings::{
     self, Field, Origin, Set, SettingsError, SettingsLayer, Wavelengths, MAX_SIDE,
 };
+use crate::render::tilt;
 use crate::scene::Scene;
 use crate::spectrum::WavelengthSet;
 use std::path::PathBuf;
@@ -204,6 +206,18 @@ pub struct SceneOverrides {
     /// paths of its middle). Overrides the scene.
     #[arg(long, value_parser = clap::value_parser!(approx::DispersionMode))]
     pub dispersion: Option<approx::DispersionMode>,
+    /// Light the stone with a built-in rig instead of the scene's lights
+    /// and background: ring (a ring light around the lens), dome (a
+    /// diffuse dome with the observer's head shadow; dome:DEG for a shadow
+    /// DEG degrees across, default 30) or spot (a small bright source for
+    /// fire over a dim dome). Relative to the camera (docs/scenes.md).
+    #[arg(long, value_name = "NAME", value_parser = clap::value_parser!(LightRig))]
+    pub light_rig: Option<LightRig>,
+    /// Tilt the stone by DEG degrees (-90 to 90) about the camera's
+    /// horizontal axis through the objects' centre; positive brings the
+    /// stone's top (image up) toward the camera. The lights stay.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub tilt: Option<f64>,
 }
 
 impl SceneOverrides {
@@ -274,6 +288,21 @@ impl SceneOverrides {
         let [preset, flags] = self.layers(origin);
         if let Err(e) = settings::apply_to(scene, &[&preset, &flags]) {
             return Err(self.explain(scene, e));
+        }
+        let name = |flag: &'static str| match origin(flag) {
+            Origin::Flag(f) => f,
+            _ => flag.to_string(),
+        };
+        if let Some(rig) = self.light_rig {
+            // The rig replaces every light and the background.
+            scene.lights.clear();
+            scene.environment = None;
+            scene.background = 0.0;
+            scene.distant_lights = rig.lights(&scene.camera, 1.0);
+        }
+        if let Some(deg) = self.tilt {
+            *scene = tilt::tilted(scene, deg)
+                .map_err(|e| CliError::input(format!("{} {deg}: {e}", name("--tilt"))))?;
         }
         match self.samples {
             Some(SamplesArg::Block { start, end, .. }) if scene.settings.adaptive.is_on() => {
@@ -385,6 +414,12 @@ impl SceneOverrides {
         }
         if let Some(n) = self.min_samples {
             a.extend(["--min-samples".into(), n.to_string()]);
+        }
+        if let Some(r) = self.light_rig {
+            a.extend(["--light-rig".into(), r.to_string()]);
+        }
+        if let Some(t) = self.tilt {
+            a.extend(["--tilt".into(), format!("{t:?}")]);
         }
         a
     }

@@ -18,6 +18,7 @@ pub mod plan;
 pub mod plot;
 pub mod render;
 pub mod speed_error;
+pub mod tilt;
 
 pub use error::{CliError, ErrorKind};
 
@@ -68,6 +69,10 @@ pub enum Command {
     /// time and error against a converged reference (CSV, table, plot).
     #[command(allow_negative_numbers = true)]
     SpeedError(speed_error::SpeedErrorArgs),
+    /// Render a scene's stone tilted from -DEG to +DEG about the camera's
+    /// horizontal axis, as numbered frames (out-000.png, …).
+    #[command(allow_negative_numbers = true)]
+    Tilt(tilt::TiltArgs),
 }
 
 /// Entry point of the `spar` binary; returns the process exit status.
@@ -91,6 +96,7 @@ pub fn main() -> i32 {
         Command::Develop(args) => develop::run(&args),
         Command::Plan(args) => plan::run(&args, &mut std::io::stdout().lock()),
         Command::SpeedError(args) => speed_error::run(&args),
+        Command::Tilt(args) => tilt::run(&args),
     };
     match result {
         Ok(()) => 0,

@@ -76,6 +76,10 @@ pub struct RenderArgs {
     /// No progress or summary.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Keep no checkpoint (set by `spar tilt`, whose frames are rendered
+    /// whole or not at all): a stopped render writes nothing.
+    #[arg(skip)]
+    pub no_checkpoint: bool,
 }
 
 /// A finished render and what it cost.
@@ -202,7 +206,9 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let done = render(args, &job, &options, &ckpt, resume, &reporter)?;
     write_outputs(args, &job, &info, done.part, &reporter)?;
     // The outputs are complete: the checkpoint has served.
-    let _ = std::fs::remove_file(&ckpt.path);
+    if !args.no_checkpoint {
+        let _ = std::fs::remove_file(&ckpt.path);
+    }
     if !args.quiet {
         print_summary(
             &job,
@@ -218,6 +224,13 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     }
     reporter.event("done", &format!("{:.1}s", started.elapsed().as_secs_f64()));
     Ok(())
+}
+
+/// Checks everything `args` ask for (exit status 2) without rendering or
+/// writing anything: what `spar tilt` does for every frame before the
+/// first.
+pub fn check(args: &RenderArgs) -> Result<(), CliError> {
+    checked_job(args).map(|_| ())
 }
 
 /// The scene with the overrides applied and everything the flags ask for,
@@ -396,7 +409,7 @@ impl Checkpoint {
     fn resume(&self, args: &RenderArgs, reporter: &Reporter) -> Result<Vec<TileData>, CliError> {
         let path = self.path.display();
         if !args.farm.resume {
-            if self.path.exists() && !args.quiet {
+            if self.path.exists() && !args.quiet && !args.no_checkpoint {
                 eprintln!("spar: note: {path} exists; pass --resume to continue from it");
             }
             return Ok(Vec::new());
@@ -483,11 +496,12 @@ fn render(
     let save_error = Mutex::new(None::<String>);
     let save = |tiles: &[&TileData]| ckpt.save(tiles, grid_len, reporter, &save_error);
     let on_progress = |done: usize, total: usize| reporter.tiles(done, total);
+    let keep = !args.no_checkpoint;
     let control = Control {
         tile_size: TILE,
         stop: Some(&signals.stop),
-        checkpoint: Some(&signals.save),
-        on_checkpoint: Some(&save),
+        checkpoint: keep.then_some(&signals.save),
+        on_checkpoint: keep.then_some(&save),
         on_progress: Some(&on_progress),
         resume,
     };
@@ -501,6 +515,11 @@ fn render(
             accel_time,
             render_time,
         }),
+        Outcome::Stopped(tiles, _) if !keep => Err(CliError::internal(format!(
+            "stopped by {} after {}/{grid_len} tiles: nothing written",
+            signals.name(),
+            tiles.len()
+        ))),
         Outcome::Stopped(tiles, _) => {
             let refs: Vec<&TileData> = tiles.iter().collect();
             save(&refs);

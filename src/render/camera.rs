@@ -122,6 +122,16 @@ impl Camera {
         self.forward
     }
 
+    /// Image right (unit): forward × up.
+    pub fn right(&self) -> DVec3 {
+        self.right
+    }
+
+    /// Image up (unit), orthogonal to the viewing direction.
+    pub fn up(&self) -> DVec3 {
+        self.up
+    }
+
     /// The ray (origin, unit direction) through film position (`fx`,
     /// `fy`) in pixels, (0, 0) the top-left corner.
     pub fn ray(&self, fx: f64, fy: f64) -> (DVec3, DVec3) {

@@ -238,7 +238,9 @@ pub const COLLIMATED_HALF_ANGLE: f64 = 1e-6;
 
 /// A light at infinity: plane waves travelling within a cone around
 /// `direction` (a sun-like disc of `angular_diameter`, or a collimated
-/// beam when that is 0), of uniform radiance and polarization. Each
+/// beam when that is 0), less the cone of `inner_diameter` (a ring of
+/// directions: the built-in rigs, `render::rig`), of uniform radiance and
+/// polarization. Each
 /// direction is one plane wave: paths that arrive from the same direction
 /// are mutually coherent (docs/physics.md §9).
 #[derive(Clone, Debug, PartialEq)]
@@ -248,6 +250,9 @@ pub struct DistantLight {
     /// Full angular diameter of the disc of directions, radians (0:
     /// collimated).
     pub angular_diameter: f64,
+    /// Full angular diameter, radians, of the cone around `direction`
+    /// that is dark (0: none, a full disc).
+    pub inner_diameter: f64,
     /// Radiance scale (× D65).
     pub radiance: f64,
     /// A filter in the plane normal to `direction` (the sheet polarizer's
@@ -264,10 +269,14 @@ impl DistantLight {
             .cos()
     }
 
-    /// True when a backward ray along unit `d` (toward the light) sees it.
+    /// True when a backward ray along unit `d` (toward the light) sees it:
+    /// within the half-angle of `direction`, and beyond the dark cone's
+    /// half-angle when there is one.
     #[inline]
     pub fn seen_along(&self, d: DVec3) -> bool {
-        (-d).dot(self.direction) >= self.cos_half_angle()
+        let c = (-d).dot(self.direction);
+        c >= self.cos_half_angle()
+            && (self.inner_diameter <= 0.0 || c < (0.5 * self.inner_diameter).cos())
     }
 
     /// The coherence matrix of the light travelling along unit `k` (one of

@@ -28,8 +28,10 @@ pub mod output;
 pub mod prepare;
 pub mod quality;
 pub mod region;
+pub mod rig;
 pub mod sampling;
 pub mod settings;
+pub mod tilt;
 pub mod world;
 
 use crate::accel::Intersector;

@@ -63,6 +63,10 @@
 //! environment = "sky.exr"          # a latitude–longitude image (row 0 the zenith +z), or "uniform"
 //! radiance = 1.0                   # scale: radiance × map × D65
 //!
+//! [[light]]                        # a built-in rig relative to the camera (render::rig)
+//! rig = "dome"                     # ring, dome, dome:DEG (head shadow DEG across) or spot
+//! radiance = 1.0                   # scales the rig's radiances
+//!
 //! [background]
 //! radiance = 0.0
 //! ```
@@ -568,8 +572,8 @@ fn default_radiance() -> Spanned<f64> {
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
 pub struct LightDef {
-    /// A rectangle's four corners; exactly one of `corners`, `direction`
-    /// and `environment` is given.
+    /// A rectangle's four corners; exactly one of `corners`, `direction`,
+    /// `environment` and `rig` is given.
     #[serde(default, deserialize_with = "corners")]
     pub corners: Option<Spanned<[V3; 4]>>,
     /// A light at infinity: the direction its light travels.
@@ -582,6 +586,10 @@ pub struct LightDef {
     /// latitude–longitude image (a path relative to the scene file, or
     /// `builtin:NAME`).
     pub environment: Option<Spanned<String>>,
+    /// A built-in light rig relative to the camera: `"ring"`, `"dome"`,
+    /// `"dome:DEG"` (a head shadow DEG degrees across) or `"spot"`
+    /// (render::rig); `radiance` scales it.
+    pub rig: Option<Spanned<String>>,
     #[serde(default = "default_radiance")]
     pub radiance: Spanned<f64>,
     pub texture: Option<Spanned<String>>,

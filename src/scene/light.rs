@@ -5,9 +5,11 @@
 
 use super::file::{FilterDef, LightDef, PolarizationDef, V3};
 use super::{finite3, LocFns, SceneError};
+use crate::render::camera::Camera;
 use crate::render::light::{
     DistantLight, Environment, EnvironmentMap, Light, PlateWave, Polarization, Texture,
 };
+use crate::render::rig::{LightRig, RIG_NAMES};
 use glam::DVec3;
 use std::path::Path;
 use toml::Spanned;
@@ -19,29 +21,38 @@ pub(crate) enum AnyLight {
     Area(Light),
     Distant(DistantLight),
     Environment(Environment),
+    /// A built-in rig's lights at infinity (render::rig).
+    Rig(Vec<DistantLight>),
 }
 
 /// Validates a `[[light]]` table: exactly one of `corners` (a rectangle),
-/// `direction` (a light at infinity) and `environment` (light from every
-/// direction).
+/// `direction` (a light at infinity), `environment` (light from every
+/// direction) and `rig` (a built-in rig relative to `camera`).
 pub(crate) fn resolve(
     loc: &LocFns<'_>,
     l: &Spanned<LightDef>,
     base: &Path,
     index: usize,
+    camera: &Camera,
 ) -> Result<AnyLight, SceneError> {
     let def = l.get_ref();
-    match (&def.corners, &def.direction, &def.environment) {
-        (Some(corners), None, None) => area(loc, def, corners, base, index).map(AnyLight::Area),
-        (None, Some(direction), None) => distant(loc, def, direction, index).map(AnyLight::Distant),
-        (None, None, Some(env)) => {
+    match (&def.corners, &def.direction, &def.environment, &def.rig) {
+        (Some(corners), None, None, None) => {
+            area(loc, def, corners, base, index).map(AnyLight::Area)
+        }
+        (None, Some(direction), None, None) => {
+            distant(loc, def, direction, index).map(AnyLight::Distant)
+        }
+        (None, None, Some(env), None) => {
             environment(loc, def, env, base, index).map(AnyLight::Environment)
         }
-        (c, d, e) => {
+        (None, None, None, Some(r)) => rig(loc, def, r, index, camera).map(AnyLight::Rig),
+        (c, d, e, r) => {
             let given: Vec<&str> = [
                 (c.is_some(), "`corners`"),
                 (d.is_some(), "`direction`"),
                 (e.is_some(), "`environment`"),
+                (r.is_some(), "`rig`"),
             ]
             .into_iter()
             .filter_map(|(has, name)| has.then_some(name))
@@ -51,18 +62,57 @@ pub(crate) fn resolve(
                 format!("light[{index}]"),
                 format!(
                     "give exactly one of `corners` (a rectangle), `direction` (a light at \
-                     infinity, the direction its light travels) and `environment` (light from \
-                     every direction: \"uniform\" or a latitude–longitude image); this light \
-                     has {}",
+                     infinity, the direction its light travels), `environment` (light from \
+                     every direction: \"uniform\" or a latitude–longitude image) and `rig` (a \
+                     built-in rig: {}); this light has {}",
+                    RIG_NAMES.join(", "),
                     match given.as_slice() {
                         [] => "none of them".to_string(),
                         [a, b] => format!("both {a} and {b}"),
-                        _ => "all three".to_string(),
+                        [a, b, c] => format!("all three of {a}, {b} and {c}"),
+                        _ => "all four".to_string(),
                     }
                 ),
             )
         }
     }
+}
+
+/// A built-in rig (render::rig) for `camera`, its radiances scaled by
+/// `radiance`; it takes no texture, polarization or angular diameter.
+fn rig(
+    loc: &LocFns<'_>,
+    def: &LightDef,
+    name: &Spanned<String>,
+    index: usize,
+    camera: &Camera,
+) -> Result<Vec<DistantLight>, SceneError> {
+    let field = |f: &str| format!("light[{index}].{f}");
+    let rig: LightRig = name
+        .get_ref()
+        .parse()
+        .or_else(|e| loc.err(name.span(), field("rig"), e))?;
+    let refuse = |span: std::ops::Range<usize>, key: &str| {
+        loc.err(
+            span,
+            field(key),
+            format!(
+                "a rig (`rig = \"{rig}\"`) has its own directions, sizes and polarization \
+                 (unpolarized): it takes only `radiance`, a scale"
+            ),
+        )
+    };
+    if let Some(p) = &def.polarization {
+        return refuse(p.span(), "polarization");
+    }
+    if let Some(t) = &def.texture {
+        return refuse(t.span(), "texture");
+    }
+    if let Some(a) = &def.angular_diameter {
+        return refuse(a.span(), "angular_diameter");
+    }
+    let scale = radiance(loc, def, index)?;
+    Ok(rig.lights(camera, scale))
 }
 
 /// `radiance`: finite and ≥ 0.
@@ -200,6 +250,7 @@ fn distant(
     Ok(DistantLight {
         direction,
         angular_diameter,
+        inner_diameter: 0.0,
         radiance,
         polarization,
     })

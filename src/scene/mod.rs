@@ -486,9 +486,10 @@ impl Scene {
                     ),
                 );
             }
-            match light::resolve(&loc_fns(&loc), l, base, i)? {
+            match light::resolve(&loc_fns(&loc), l, base, i, &camera)? {
                 light::AnyLight::Area(l) => lights.push(l),
                 light::AnyLight::Distant(l) => distant_lights.push(l),
+                light::AnyLight::Rig(rig) => distant_lights.extend(rig),
                 light::AnyLight::Environment(e) => {
                     let span = l
                         .get_ref()

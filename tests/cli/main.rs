@@ -20,4 +20,5 @@ mod cli_render_errors;
 mod cli_render_outputs;
 mod cli_speed_error;
 mod cli_stokes_exr;
+mod cli_tilt;
 mod readme_ci;

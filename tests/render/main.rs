@@ -16,6 +16,7 @@ mod render_bundle;
 mod render_coherence;
 mod render_furnace;
 mod render_hard_cases;
+mod render_lighting;
 mod render_lost_light;
 mod render_model_only_needed;
 mod render_physics;
