@@ -199,3 +199,25 @@ fn a_user_typed_near_isotropic_crystal_solves_on_the_command_line_path() {
         }
     }
 }
+
+#[test]
+fn the_default_crystal_x_is_never_parallel_to_z() {
+    // +x unless z lies within 45° of ±x, then +y: the part orthogonal to z
+    // is at least √½ long for every z, and the choice is deterministic.
+    use spar::optics::medium::default_crystal_x;
+    let mut rng = rng(1720);
+    for _ in 0..10_000 {
+        let z = unit(&mut rng) * rng.gen_range(1e-3..1e3);
+        let x = default_crystal_x(z);
+        let zh = z.normalize();
+        assert!((x - zh * x.dot(zh)).length() >= std::f64::consts::FRAC_1_SQRT_2 - 1e-15);
+        assert_eq!(x, default_crystal_x(z));
+        let want = if zh.x.abs() > std::f64::consts::FRAC_1_SQRT_2 {
+            DVec3::Y
+        } else {
+            DVec3::X
+        };
+        assert_eq!(x, want);
+        assert!(Medium::biaxial([1.6, 1.61, 1.62], z, x).is_some());
+    }
+}

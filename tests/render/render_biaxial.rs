@@ -182,6 +182,24 @@ fn biaxial_scene_keys_load_and_bad_ones_name_file_line_and_field() {
     let (z, x) = rotated.objects[0].material.crystal_axes().unwrap();
     assert!((z - glam::DVec3::Z).length() < 1e-12, "{z}");
     assert!((x - glam::DVec3::Y).length() < 1e-12, "{x}");
+    // z alone: x defaults to +x, or to +y when z is within 45° of ±x
+    // (optics::medium::default_crystal_x), in the object's frame.
+    for (z, want_x) in [
+        ("[0.0, 0.0, 3.0]", glam::DVec3::X),
+        ("[-1.0, 0.2, 0.1]", glam::DVec3::Y),
+    ] {
+        let scene = parse(&BAD_BASE.replace(
+            "crystal_axes = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }",
+            &format!("crystal_axes = {{ z = {z} }}"),
+        ))
+        .expect("z alone loads");
+        let (zz, x) = scene.objects[0].material.crystal_axes().unwrap();
+        let want = (want_x - zz * want_x.dot(zz)).normalize();
+        assert!(
+            (x - want).length() < 1e-12 && x.dot(zz).abs() < 1e-12,
+            "{z}: {x}"
+        );
+    }
     // (replaced text, replacement, line, needle).
     let axes = "crystal_axes = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }";
     let cases = [
@@ -196,12 +214,6 @@ fn biaxial_scene_keys_load_and_bad_ones_name_file_line_and_field() {
             "crystal_axes = { z = [0.0, 0.0, 0.0], x = [1.0, 0.0, 0.0] }",
             16,
             "not parallel",
-        ),
-        (
-            axes,
-            "crystal_axes = { z = [0.0, 0.0, 1.0] }",
-            16,
-            "missing field `x`",
         ),
         (
             axes,
