@@ -108,7 +108,7 @@ fn nearly_isotropic_biaxial_renders_finite_without_lost_rays() {
     // Three indices within a relative spread d of 1.7 (issue 17: the
     // solver used to fail below ~1e-8): every pixel finite and no ray
     // lost, in both models. (The image is not yet the isotropic one: see
-    // docs/physics.md §4.8.6; the difference is printed.)
+    // docs/physics.md §4.8, "Nearly isotropic media"; the difference is printed.)
     let light = "[[light]]\ncorners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], \
                  [-2.0, 2.0, -1.5]]\npolarization = { linear = [1.0, 0.3, 0.0] }\n";
     let axes = "crystal_axes = { z = [0.3, 0.5, 0.8], x = [1.0, 0.0, 0.2] }";
