@@ -1,7 +1,7 @@
 //! The eigenwaves of a nearly isotropic biaxial medium (three principal
 //! indices within [`NEAR_ISOTROPIC`] of each other, down to all equal)
 //! from the wave-normal form of Fresnel's equation on the plane of `D`
-//! (docs/physics.md §4.8.6; Born & Wolf §15.2.3).
+//! (docs/physics.md §4.8, "Nearly isotropic media"; Born & Wolf §15.2.3).
 //!
 //! Booker's quartic ([`super::anisotropic`]) has two nearly double roots on
 //! each side there, which f64 separates only to `√ε`, and `W(k)` is of
