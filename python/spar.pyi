@@ -289,7 +289,8 @@ def interface(
     mode: s or p (isotropic), o or e (uniaxial), fast or slow (biaxial).
     axis: the optic axis of whichever side is uniaxial, or a biaxial
     side's crystal z (default z). axis_x: a biaxial side's crystal x, made
-    normal to axis (default x). normal: the interface normal,
+    normal to axis (default: +x, or +y when axis is within 45° of ±x).
+    normal: the interface normal,
     into the from_ medium (default z). Vectors are 3 numbers or "x,y,z".
     Errors carry the command line's messages (which name its flags)."""
 

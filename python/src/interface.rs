@@ -48,11 +48,11 @@ pub fn interface<'py>(
             Some(a) => vector("axis", a)?,
             None => "0,0,1".into(),
         },
-        // A biaxial side's crystal x (made normal to `axis`), +x by
-        // default as on the command line.
+        // A biaxial side's crystal x (made normal to `axis`); None: the
+        // command line's default (+x, or +y when `axis` is within 45° of ±x).
         axis_x: match axis_x {
-            Some(a) => vector("axis_x", a)?,
-            None => "1,0,0".into(),
+            Some(a) => Some(vector("axis_x", a)?),
+            None => None,
         },
         normal: match normal {
             Some(n) => vector("normal", n)?,

@@ -17,6 +17,7 @@
 
 use super::error::CliError;
 use crate::material::Material;
+use crate::optics::medium::default_crystal_x;
 use crate::optics::{Interface, InterfaceError, Medium, Mode, Scattering, Side};
 use glam::DVec3;
 use std::io::Write;
@@ -42,14 +43,9 @@ pub struct InterfaceArgs {
     )]
     pub axis: String,
     /// Crystal x of a biaxial side, `x,y,z` (orthogonalized against
-    /// --axis).
-    #[arg(
-        long = "axis-x",
-        value_name = "X,Y,Z",
-        default_value = "1,0,0",
-        allow_hyphen_values = true
-    )]
-    pub axis_x: String,
+    /// --axis). Without it: +x, or +y when --axis lies within 45° of ±x.
+    #[arg(long = "axis-x", value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub axis_x: Option<String>,
     /// Interface normal, `x,y,z`, pointing into the --from medium.
     #[arg(
         long,
@@ -153,19 +149,28 @@ pub fn solve(args: &InterfaceArgs) -> Result<(Interface, Scattering), CliError> 
     }
     let from = Material::parse(&args.from).map_err(|e| CliError::input(format!("--from: {e}")))?;
     let to = Material::parse(&args.to).map_err(|e| CliError::input(format!("--to: {e}")))?;
-    let axis_x = parse_vector(&args.axis_x, "axis-x")?;
+    // No --axis-x: the deterministic default orthogonal to --axis
+    // (optics::medium::default_crystal_x); a given one parallel to --axis
+    // is refused.
+    let axis_x = match &args.axis_x {
+        Some(text) => Some(parse_vector(text, "axis-x")?),
+        None => None,
+    };
     let orient = |m: Material, flag: &str| -> Result<Material, CliError> {
         if !m.is_biaxial() {
             return Ok(m);
         }
         let name = m.name().to_string();
-        m.with_crystal_axes(axis, axis_x).map_err(|_| {
-            CliError::input(format!(
-                "--{flag} {}: --axis-x `{}` is parallel to --axis `{}`: a biaxial crystal's x \
+        let x = axis_x.unwrap_or_else(|| default_crystal_x(axis));
+        m.with_crystal_axes(axis, x)
+            .map_err(|e| match &args.axis_x {
+                Some(given) => CliError::input(format!(
+                "--{flag} {}: --axis-x `{given}` is parallel to --axis `{}`: a biaxial crystal's x \
                  axis needs a part normal to its z axis",
-                name, args.axis_x, args.axis
-            ))
-        })
+                name, args.axis
+            )),
+                None => CliError::input(format!("--{flag} {name}: --axis `{}`: {e}", args.axis)),
+            })
     };
     let from = orient(from, "from")?;
     let to = orient(to, "to")?;

@@ -366,9 +366,11 @@ impl Material {
             },
             // ε = Σ n_i² a_i a_iᵀ (docs/physics.md §4.8); axes are orthonormal by
             // construction (`with_crystal_axes`). Three equal indices make
-            // ε = n² I exactly: the isotropic medium, whose doubly degenerate
-            // waves the general quartic solver does not resolve (its roots
-            // are double everywhere).
+            // ε = n² I exactly: the isotropic medium. The interface solver
+            // handles equal and nearly equal indices (optics::near_isotropic),
+            // but the renderer chains a biaxial ray's wave by its name, and
+            // where fast and slow are degenerate their fields are a choice
+            // of basis that differs from node to node (docs/physics.md §4.8).
             Optics::Biaxial { n, z, x } => {
                 let n = [n[0].n(lambda_nm), n[1].n(lambda_nm), n[2].n(lambda_nm)];
                 if n[0] == n[1] && n[1] == n[2] {

@@ -55,6 +55,7 @@
 use super::linalg::CVec3;
 use super::medium::Medium;
 use super::modes::{Dd, Eigenwave, Mode, Side, TangentFrame, Travel, WaveKind};
+use super::near_isotropic::{self, PlaneForm};
 use glam::{DMat3, DVec3};
 use num_complex::Complex64;
 
@@ -476,6 +477,12 @@ pub struct Waves {
 
 /// [`Waves`] of `medium` (any medium; the general path) on `side`.
 pub fn waves(medium: &Medium, frame: &TangentFrame, side: Side) -> Waves {
+    // Nearly isotropic media: the exact plane form (its module docs).
+    if let Some(pf) = PlaneForm::of(medium) {
+        if let Some((outgoing, incoming)) = near_isotropic::waves(&pf, frame, side) {
+            return Waves { outgoing, incoming };
+        }
+    }
     let tensor = Tensor::of(medium);
     let c = tensor.quartic(frame);
     let n = frame.normal;
@@ -709,8 +716,10 @@ fn real_field(tensor: &Tensor, k: DVec3) -> (DVec3, bool) {
 /// `S ∝ E × (k × E) = (E·E) k − (E·k) E`. On an optic axis, where the
 /// rays of the degenerate pair fill a cone, this is `k̂`.
 pub fn ray_direction(medium: &Medium, k: DVec3) -> DVec3 {
-    let tensor = Tensor::of(medium);
-    let (e, unique) = real_field(&tensor, k);
+    let (e, unique) = match PlaneForm::of(medium) {
+        Some(pf) => near_isotropic::real_field(&pf, k),
+        None => real_field(&Tensor::of(medium), k),
+    };
     if !unique {
         return k.normalize();
     }

@@ -71,6 +71,21 @@ pub fn outer(a: DVec3, b: DVec3) -> DMat3 {
     DMat3::from_cols(a * b.x, a * b.y, a * b.z)
 }
 
+/// The crystal x of a biaxial medium whose z alone is given (`--axis`
+/// without `--axis-x`, `crystal_axes` without `x`, `axis_x=None`): +x, or
+/// +y when `z` lies within 45° of ±x (`|ẑ·x̂| > √½`), so the part of it
+/// orthogonal to `z` (what [`orthonormal_axes`] keeps) is never shorter
+/// than √½ and never ill-conditioned. Deterministic; zero or non-finite
+/// `z` gives +x (the caller's check of `z` reports it).
+pub fn default_crystal_x(z: DVec3) -> DVec3 {
+    let l = z.length();
+    if l > 0.0 && l.is_finite() && (z.x / l).abs() > std::f64::consts::FRAC_1_SQRT_2 {
+        DVec3::Y
+    } else {
+        DVec3::X
+    }
+}
+
 /// Unit `z` and the unit part of `x` orthogonal to it, or `None` (see
 /// [`Medium::biaxial`]).
 pub fn orthonormal_axes(z: DVec3, x: DVec3) -> Option<(DVec3, DVec3)> {

@@ -14,6 +14,7 @@ pub mod jones;
 pub mod linalg;
 pub mod medium;
 pub mod modes;
+pub mod near_isotropic;
 pub mod polarimetry;
 
 pub use backward::{Feeder, Feeders, WaveBasis};

@@ -44,7 +44,7 @@
 //! # or: cut = { name = "round-brilliant", table = 0.53, crown_angle = 34.5, pavilion_angle = 40.75 }
 //! medium = "calcite"               # built-in, iso:N, uniaxial:NO:NE, or a [media] name
 //! optic_axis = [0.0, 1.0, 1.0]     # object space; uniaxial crystals only (default +z)
-//! # crystal_axes = { z = [0, 0, 1], x = [1, 0, 0] }   # biaxial only (x orthogonalized against z)
+//! # crystal_axes = { z = [0, 0, 1], x = [1, 0, 0] }   # biaxial only (x orthogonalized against z; without x: +x, or +y when z is within 45° of ±x)
 //! transform = { scale = 1.0, rotate = [0.0, 0.0, 30.0], translate = [0.0, 0.0, 0.0] }
 //!
 //! [[light]]
@@ -468,8 +468,9 @@ pub struct ObjectDef {
 pub struct CrystalAxesDef {
     #[serde(deserialize_with = "exact::<_, _, 3, CrystalZ>")]
     pub z: V3,
-    #[serde(deserialize_with = "exact::<_, _, 3, CrystalX>")]
-    pub x: V3,
+    /// Crystal x; absent: `optics::medium::default_crystal_x(z)`.
+    #[serde(default, deserialize_with = "opt_exact::<_, _, 3, CrystalX>")]
+    pub x: Option<V3>,
 }
 
 /// `scale = 2.0` or `scale = [x, y, z]`.

@@ -406,7 +406,14 @@ impl Scene {
                     let (z, x) = match axes {
                         Some(a) => {
                             let d = a.get_ref();
-                            match (finite3(d.z), finite3(d.x)) {
+                            let z = finite3(d.z);
+                            // No x: the default orthogonal to z, chosen in
+                            // the object's frame.
+                            let x = match d.x {
+                                Some(x) => finite3(x),
+                                None => z.map(crate::optics::medium::default_crystal_x),
+                            };
+                            match (z, x) {
                                 (Some(z), Some(x)) => (z, x),
                                 _ => {
                                     return loc.err(

@@ -340,6 +340,56 @@ fn biaxial_media_by_name_with_both_axes() {
 }
 
 #[test]
+fn biaxial_axis_alone_takes_a_default_x_orthogonal_to_it() {
+    // `--axis 1,0,0` alone: z along x, so the default x is +y (not +x,
+    // which is parallel); the result equals giving `--axis-x 0,1,0`.
+    // Along +z the default stays +x. Only a given --axis-x parallel to
+    // --axis is refused (exit 2, naming both flags).
+    let base = [
+        "--from",
+        "air",
+        "--to",
+        "biaxial:1.6093:1.6116:1.6194",
+        "--incident",
+        "0.3,0.2,-1",
+        "--mode",
+        "s",
+        "--json",
+    ];
+    for (axis, default_x) in [
+        ("1,0,0", "0,1,0"),
+        ("-0.9,0.1,0.3", "0,1,0"),
+        ("0,0.6,0.8", "1,0,0"),
+    ] {
+        let mut alone = base.to_vec();
+        alone.extend_from_slice(&["--axis", axis]);
+        let mut both = alone.clone();
+        both.extend_from_slice(&["--axis-x", default_x]);
+        let (a, b) = (spar(&alone), spar(&both));
+        assert_eq!(
+            a.status.code(),
+            Some(0),
+            "{axis}: {}",
+            String::from_utf8_lossy(&a.stderr)
+        );
+        assert_eq!(b.status.code(), Some(0));
+        assert_eq!(
+            a.stdout, b.stdout,
+            "--axis {axis} alone differs from --axis-x {default_x}"
+        );
+    }
+    let mut bad = base.to_vec();
+    bad.extend_from_slice(&["--axis", "0,0,2", "--axis-x", "0,0,-1"]);
+    let out = spar(&bad);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("--axis-x `0,0,-1` is parallel to --axis `0,0,2`"),
+        "{err}"
+    );
+}
+
+#[test]
 fn extraordinary_wave_whose_energy_leaves_is_rejected() {
     // Calcite, axis 45° in the x–z plane, interface normal +z. A wave vector
     // just below the interface plane (k·N < 0) whose ray has S·N > 0 (the

@@ -8,6 +8,7 @@ mod support;
 mod coherence_properties;
 mod coherence_states;
 mod optics_biaxial;
+mod optics_biaxial_degenerate;
 mod optics_fresnel;
 mod optics_hard_cases;
 mod optics_properties;

@@ -12,7 +12,8 @@
 //! - The uniaxial solver of `spar::optics::modes` for a biaxial medium with
 //!   two equal indices.
 //! - Closed forms: 2V from the tan V formula, the walk-off in a principal
-//!   plane, the half-angle of the cone of internal conical refraction.
+//!   plane, the half-angle of the cone of internal conical refraction, a
+//!   slab's two images from Fresnel's equation of wave normals.
 
 use crate::support::optics::{rng, unit};
 use glam::{DMat3, DVec3};
@@ -1009,4 +1010,89 @@ fn backward_query_on_biaxial_interfaces_returns_the_forward_amplitudes() {
     );
     assert!(checked > 5000);
     assert!(worst < 1e-10, "{worst}");
+}
+
+/// The two rays (unit Poynting directions) and indices of the waves whose
+/// wave normal is `u` in a biaxial crystal of principal indices `n` on the
+/// orthonormal axes `a`, slow last, from Fresnel's equation of wave
+/// normals in the principal frame (Born & Wolf §15.2.3), written here
+/// apart from the solver: `Σ u_i² / (v − v_i) = 0` (`v = 1/n²`,
+/// `v_i = 1/n_i²`), a quadratic in `v`; `D_i ∝ u_i / (v − v_i)`,
+/// `E_i = v_i D_i`, `S ∝ u (E·E) − E (u·E)`. (Needs every `u_i ≠ 0`.)
+fn walk_off_rays(n: [f64; 3], a: [DVec3; 3], u: DVec3) -> [(f64, DVec3); 2] {
+    let v = n.map(|x| 1.0 / (x * x));
+    let w = [0, 1, 2].map(|i| u.dot(a[i]).powi(2));
+    // Σ w_i Π_{j≠i}(v − v_j) = 0: A v² + B v + C.
+    let aa = w[0] + w[1] + w[2];
+    let bb = -(w[0] * (v[1] + v[2]) + w[1] * (v[0] + v[2]) + w[2] * (v[0] + v[1]));
+    let cc = w[0] * v[1] * v[2] + w[1] * v[0] * v[2] + w[2] * v[0] * v[1];
+    let disc = (bb * bb - 4.0 * aa * cc).sqrt();
+    // Larger v (fast, smaller n) first.
+    [(-bb + disc) / (2.0 * aa), (-bb - disc) / (2.0 * aa)].map(|vv| {
+        let ui = [0, 1, 2].map(|m| u.dot(a[m]));
+        let d = [0, 1, 2].map(|m| ui[m] / (vv - v[m]));
+        let e = a[0] * (v[0] * d[0]) + a[1] * (v[1] * d[1]) + a[2] * (v[2] * d[2]);
+        let s = u * e.length_squared() - e * u.dot(e);
+        (1.0 / vv.sqrt(), s.normalize())
+    })
+}
+
+#[test]
+fn a_biaxial_slab_shows_two_images_displaced_by_the_walk_off() {
+    // A plane-parallel slab of thickness h (crystal below the top face,
+    // normal +z into the air) over a bright point; a viewer straight above.
+    // The backward query of the top face for the wave leaving along +z
+    // (what the renderer asks for a camera ray) names the two crystal waves
+    // that feed it, wave normal along z; traced back through the slab they
+    // meet the bottom face at h · S_t / S_z from the foot of the viewer's
+    // line: the two images of the point, displaced by h tan ρ along the
+    // tangential part of each ray. Against the closed form above.
+    let h = 3.0;
+    let n = [1.6093, 1.6116, 1.6194]; // topaz-like, 2V ≈ 57°
+    for (z, x) in [
+        (DVec3::new(0.3, 0.5, 0.8), DVec3::new(1.0, 0.0, 0.2)),
+        (DVec3::new(-0.6, 0.2, 0.7), DVec3::new(0.1, 1.0, 0.0)),
+    ] {
+        let crystal = Medium::biaxial(n, z, x).unwrap();
+        let Medium::Biaxial { x: ax, z: az, .. } = crystal else {
+            unreachable!()
+        };
+        let axes = [ax, az.cross(ax), az];
+        let iface = Interface::new(DVec3::Z, Medium::VACUUM, crystal).unwrap();
+        let feeders = iface
+            .feeders(Side::Plus, WaveKind::Isotropic, DVec3::Z)
+            .unwrap();
+        let from_crystal: Vec<_> = feeders
+            .as_slice()
+            .iter()
+            .filter(|f| f.wave.side == Side::Minus)
+            .collect();
+        assert_eq!(from_crystal.len(), 2);
+        let want = walk_off_rays(n, axes, DVec3::Z);
+        let mut offsets = Vec::new();
+        for f in from_crystal {
+            let ray = f.wave.ray;
+            let index = f.wave.k.length();
+            let (n_w, s_w) = want
+                .into_iter()
+                .min_by(|p, q| (p.0 - index).abs().total_cmp(&(q.0 - index).abs()))
+                .unwrap();
+            assert!((index - n_w).abs() < 1e-12, "index {index} vs {n_w}");
+            let off = DVec3::new(ray.x, ray.y, 0.0) * (h / ray.z);
+            let off_w = DVec3::new(s_w.x, s_w.y, 0.0) * (h / s_w.z);
+            let rho = s_w.z.acos();
+            assert!(((off_w.length() - h * rho.tan()) / h).abs() < 1e-12);
+            assert!((off - off_w).length() < 1e-9 * h, "{off} vs {off_w}");
+            offsets.push(off);
+        }
+        let sep = (offsets[0] - offsets[1]).length();
+        println!(
+            "slab h = {h}: images at {:.6} and {:.6} (walk-off {:.4}° and {:.4}°), {sep:.6} apart",
+            offsets[0],
+            offsets[1],
+            (offsets[0].length() / h).atan().to_degrees(),
+            (offsets[1].length() / h).atan().to_degrees()
+        );
+        assert!(sep > 1e-3 * h, "the two images coincide: {sep}");
+    }
 }
