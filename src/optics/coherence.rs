@@ -326,13 +326,10 @@ impl Coherence {
         }
     }
 
-    /// The Stokes parameters as the linear map of `J` (S0 = Jxx + Jyy, S1 =
-    /// Jxx − Jyy, S2 = 2 Re Jxy, S3 = 2 Im Jxy; one mode: (I, I, 0, 0)),
-    /// without [`Self::stokes`]'s clipping to a physical state: the form a
-    /// sum of unbiased estimates needs, since clipping each estimate would
-    /// bias the sum. Non-finite entries as in [`Self::stokes`].
-    pub fn stokes_linear(&self) -> Stokes {
-        let (xx, yy, re, im) = if self.modes == 1 {
+    /// `(Jxx, Jyy, Re Jxy, Im Jxy)` with NaN as 0 and ±∞ as ±MAX (zeros
+    /// beyond the one entry of a one-mode wave).
+    fn finite_entries(&self) -> (f64, f64, f64, f64) {
+        if self.modes == 1 {
             (finite(self.xx), 0.0, 0.0, 0.0)
         } else {
             (
@@ -341,7 +338,16 @@ impl Coherence {
                 finite(self.xy.re),
                 finite(self.xy.im),
             )
-        };
+        }
+    }
+
+    /// The Stokes parameters as the linear map of `J` (S0 = Jxx + Jyy, S1 =
+    /// Jxx − Jyy, S2 = 2 Re Jxy, S3 = 2 Im Jxy; one mode: (I, I, 0, 0)),
+    /// without [`Self::stokes`]'s clipping to a physical state: the form a
+    /// sum of unbiased estimates needs, since clipping each estimate would
+    /// bias the sum. Non-finite entries as in [`Self::stokes`].
+    pub fn stokes_linear(&self) -> Stokes {
+        let (xx, yy, re, im) = self.finite_entries();
         if self.modes == 1 {
             return Stokes {
                 s0: xx,
@@ -368,16 +374,7 @@ impl Coherence {
             s2: 0.0,
             s3: 0.0,
         };
-        let (xx, yy, re, im) = if self.modes == 1 {
-            (finite(self.xx), 0.0, 0.0, 0.0)
-        } else {
-            (
-                finite(self.xx),
-                finite(self.yy),
-                finite(self.xy.re),
-                finite(self.xy.im),
-            )
-        };
+        let (xx, yy, re, im) = self.finite_entries();
         let scale = xx.abs().max(yy.abs()).max(re.abs()).max(im.abs());
         if scale == 0.0 {
             return (0.0, none);

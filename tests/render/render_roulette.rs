@@ -6,11 +6,8 @@
 //! traces fewer rays; and below the pruning bound it changes nothing.
 
 use crate::support::render as common;
-use glam::DVec3;
-use spar::optics::Coherence;
 use spar::render::approx::{CoherenceModel, Strategy};
-use spar::render::integrator::{Stats, Tracer, TreeSettings, WavelengthMedia};
-use spar::render::sampling::SampleKey;
+use spar::render::integrator::{Tracer, TreeSettings, WavelengthMedia};
 
 /// The trichecker gem over a polarized checker light and a grey
 /// background (as the strategies' tests), exact to depth 12.
@@ -73,53 +70,6 @@ polarization = { linear = [1.0, 0.3, 0.0] }
     common::scene(toml, &[("plate.obj", plate)])
 }
 
-fn stokes_linear(j: &Coherence) -> [f64; 4] {
-    let s = j.stokes_linear();
-    [s.s0, s.s1, s.s2, s.s3]
-}
-
-/// Mean and standard error of `n` estimates of one camera ray (samples
-/// differ only in their random numbers), and the rays they traced.
-fn sampled_mean(
-    tracer: &Tracer,
-    ray: (DVec3, DVec3, [DVec3; 2]),
-    media: &WavelengthMedia,
-    n: u32,
-) -> ([f64; 4], [f64; 4], Stats) {
-    let (eye, d, basis) = ray;
-    let mut sum = [0.0; 4];
-    let mut sq = [0.0; 4];
-    let mut stats = Stats::default();
-    for sample in 0..n {
-        let key = SampleKey {
-            seed: 11,
-            pixel: 5,
-            sample,
-        };
-        let mut out = [Coherence::zero(2)];
-        tracer.trace_camera(
-            eye,
-            d,
-            basis,
-            std::slice::from_ref(media),
-            &key,
-            &mut out,
-            &mut stats,
-        );
-        // Summed as the film sums them: unclipped, since one rouletted
-        // sample of interfering paths may be unphysical on its own.
-        let s = stokes_linear(&out[0]);
-        for c in 0..4 {
-            sum[c] += s[c];
-            sq[c] += s[c] * s[c];
-        }
-    }
-    let nf = n as f64;
-    let mean = sum.map(|v| v / nf);
-    let se = std::array::from_fn(|c| ((sq[c] / nf - mean[c] * mean[c]).max(0.0) / nf).sqrt());
-    (mean, se, stats)
-}
-
 /// Checks that roulette at `threshold` is unbiased for camera rays through
 /// pixel positions `at` of `scene` in `model`, and returns the fraction of
 /// the exact tree's rays it traced.
@@ -148,9 +98,11 @@ fn check_unbiased(
     for &(fx, fy) in at {
         let (eye, d) = scene.camera.ray(fx, fy);
         let (x, y) = scene.camera.stokes_frame(d);
-        let (truth, _, e_stats) = sampled_mean(&exact, (eye, d, [x, y]), &media, 1);
+        let (truth, _, e_stats) =
+            common::sampled_mean(&exact, (eye, d, [x, y]), &media, 1, (11, 5));
         assert!(truth[0] > 0.0, "{what}: no light at {fx},{fy}");
-        let (mean, se, stats) = sampled_mean(&rouletted, (eye, d, [x, y]), &media, n);
+        let (mean, se, stats) =
+            common::sampled_mean(&rouletted, (eye, d, [x, y]), &media, n, (11, 5));
         assert!(
             stats.rouletted > 0,
             "{what}: roulette never ended a subtree"

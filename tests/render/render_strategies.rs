@@ -4,7 +4,6 @@
 //! batch that shares its geometry gives exactly the per-wavelength trees.
 
 use crate::support::render as common;
-use glam::DVec3;
 use spar::optics::Coherence;
 use spar::render::approx::{Branching, PolarizationModel, Strategy};
 use spar::render::integrator::{Stats, Tracer, TreeSettings, WavelengthMedia};
@@ -42,46 +41,6 @@ fn stokes(j: &Coherence) -> [f64; 4] {
     [s.s0, s.s1, s.s2, s.s3]
 }
 
-/// Mean and standard error over `n` sampled estimates of one camera ray.
-fn sampled_mean(
-    tracer: &Tracer,
-    eye: DVec3,
-    d: DVec3,
-    basis: [DVec3; 2],
-    media: &WavelengthMedia,
-    n: u32,
-) -> ([f64; 4], [f64; 4]) {
-    let mut sum = [0.0; 4];
-    let mut sq = [0.0; 4];
-    let mut stats = Stats::default();
-    for sample in 0..n {
-        let key = SampleKey {
-            seed: 7,
-            pixel: 3,
-            sample,
-        };
-        let mut out = [Coherence::zero(2)];
-        tracer.trace_camera(
-            eye,
-            d,
-            basis,
-            std::slice::from_ref(media),
-            &key,
-            &mut out,
-            &mut stats,
-        );
-        let s = stokes(&out[0]);
-        for c in 0..4 {
-            sum[c] += s[c];
-            sq[c] += s[c] * s[c];
-        }
-    }
-    let nf = n as f64;
-    let mean = sum.map(|v| v / nf);
-    let se = std::array::from_fn(|c| ((sq[c] / nf - mean[c] * mean[c]).max(0.0) / nf).sqrt());
-    (mean, se)
-}
-
 #[test]
 fn stochastic_and_hybrid_branching_are_unbiased() {
     for (medium, axis) in [("n-bk7", ""), ("calcite", "optic_axis = [0.3, 0.5, 0.8]")] {
@@ -108,7 +67,8 @@ fn stochastic_and_hybrid_branching_are_unbiased() {
                         polarization: PolarizationModel::Full,
                         ..Strategy::default()
                     });
-                let (mean, se) = sampled_mean(&tracer, eye, d, [x, y], &media, 20_000);
+                let (mean, se, _) =
+                    common::sampled_mean(&tracer, (eye, d, [x, y]), &media, 20_000, (7, 3));
                 for c in 0..4 {
                     // 5 standard errors, plus rounding.
                     let tol = 5.0 * se[c] + 1e-9 * exact[0];

@@ -190,3 +190,50 @@ pub fn furnace_worst(toml: &str) -> (f64, f64, Stats) {
     }
     (di, dp, stats)
 }
+
+/// Mean and standard error of the Stokes vector of `n` estimates of one
+/// camera ray `(origin, direction, basis)` at one wavelength, and the
+/// render's counters: the samples differ only in their random numbers
+/// (sample keys of `seed` and `pixel`). Each estimate is taken as the film
+/// sums it where one sample may be unphysical (unclipped,
+/// `Coherence::stokes_linear`).
+#[allow(dead_code)] // in the crates that do not use it
+pub fn sampled_mean(
+    tracer: &spar::render::integrator::Tracer,
+    ray: (glam::DVec3, glam::DVec3, [glam::DVec3; 2]),
+    media: &spar::render::integrator::WavelengthMedia,
+    n: u32,
+    (seed, pixel): (u64, u64),
+) -> ([f64; 4], [f64; 4], Stats) {
+    let (origin, d, basis) = ray;
+    let mut sum = [0.0; 4];
+    let mut sq = [0.0; 4];
+    let mut stats = Stats::default();
+    for sample in 0..n {
+        let key = spar::render::sampling::SampleKey {
+            seed,
+            pixel,
+            sample,
+        };
+        let mut out = [spar::optics::Coherence::zero(2)];
+        tracer.trace_camera(
+            origin,
+            d,
+            basis,
+            std::slice::from_ref(media),
+            &key,
+            &mut out,
+            &mut stats,
+        );
+        let s = out[0].stokes_linear();
+        let s = [s.s0, s.s1, s.s2, s.s3];
+        for c in 0..4 {
+            sum[c] += s[c];
+            sq[c] += s[c] * s[c];
+        }
+    }
+    let nf = n as f64;
+    let mean = sum.map(|v| v / nf);
+    let se = std::array::from_fn(|c| ((sq[c] / nf - mean[c] * mean[c]).max(0.0) / nf).sqrt());
+    (mean, se, stats)
+}
