@@ -20,7 +20,7 @@ use std::str::FromStr;
 
 /// The settings a scene takes from Python, in the order the docs list
 /// them.
-pub const NAMES: [&str; 15] = [
+pub const NAMES: [&str; 16] = [
     "samples",
     "resolution",
     "wavelengths",
