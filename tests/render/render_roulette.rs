@@ -9,34 +9,9 @@ use crate::support::render as common;
 use spar::render::approx::{CoherenceModel, Strategy};
 use spar::render::integrator::{Tracer, TreeSettings, WavelengthMedia};
 
-/// The trichecker gem over a polarized checker light and a grey
-/// background (as the strategies' tests), exact to depth 12.
-fn gem(medium: &str, axis: &str) -> (spar::scene::Scene, tempfile::TempDir) {
-    let toml = format!(
-        r#"
-[camera]
-eye = [0.0, -3.0, 2.2]
-look_at = [0.0, 0.0, -0.1]
-up = [0.0, 0.0, 1.0]
-fov = 30.0
-resolution = [8, 8]
-[render]
-max_depth = 12
-prune = 0.0
-[[object]]
-mesh = "builtin:trichecker12"
-medium = "{medium}"
-{axis}
-[[light]]
-corners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, -1.5]]
-texture = "builtin:checker"
-polarization = {{ linear = [1.0, 0.4, 0.0] }}
-[background]
-radiance = 0.3
-"#
-    );
-    common::scene(&toml, &[])
-}
+/// The strategies' test gem (trichecker over a polarized checker light and
+/// a grey background, exact to depth 12).
+use crate::render_strategies::gem_scene as gem;
 
 /// A free-standing film n = 2.4, 0.3 µm thick, seen in reflection of a
 /// collimated polarized light at 30°: its reflections leave along one

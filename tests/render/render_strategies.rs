@@ -9,7 +9,7 @@ use spar::render::approx::{Branching, PolarizationModel, Strategy};
 use spar::render::integrator::{Stats, Tracer, TreeSettings, WavelengthMedia};
 use spar::render::sampling::SampleKey;
 
-fn gem_scene(medium: &str, axis: &str) -> (spar::scene::Scene, tempfile::TempDir) {
+pub(crate) fn gem_scene(medium: &str, axis: &str) -> (spar::scene::Scene, tempfile::TempDir) {
     let toml = format!(
         r#"
 [camera]
