@@ -730,9 +730,13 @@ pub fn ray_direction(medium: &Medium, k: DVec3) -> DVec3 {
 /// `ray`: the ray index `n_r² = x` solves `Σ ŝᵢ²/(εᵢ − x) = 0` in the
 /// principal frame, `D` spans the null space of `ε⁻¹ − (I − ŝŝᵀ)/x`
 /// (Born & Wolf §15.2.2, the ray form of Fresnel's equation), and `k`
-/// is along `D × (E × ŝ)` with `k·ŝ = n_r`.
+/// is along `D × (E × ŝ)` with `k·ŝ = n_r`. Nearly isotropic media take the
+/// exact ray form on the plane of `E` ([`near_isotropic::k_from_ray`]).
 pub fn k_from_ray(medium: &Medium, kind: WaveKind, ray: DVec3) -> DVec3 {
     let s = ray.normalize();
+    if let Some(pf) = PlaneForm::of(medium) {
+        return near_isotropic::k_from_ray(&pf, sheet_index(kind), s);
+    }
     let tensor = Tensor::of(medium);
     let inv = tensor.eps.inverse();
     let x = tensor.ray_indices_squared(s)[sheet_index(kind)];

@@ -30,6 +30,10 @@
 //! Each branch's root starts from its own estimate at grazing, so waves
 //! near grazing (where one branch propagates and the other is already
 //! evanescent) are found too.
+//!
+//! The backward query finds a wave again from its ray ([`k_from_ray`]):
+//! there the dual, ray form on the plane of `E` ([`ray_sheets`]) is exact
+//! where the ray quadratic separates its roots only to `√ε`.
 
 use super::linalg::CVec3;
 use super::medium::{outer, Medium};
@@ -49,6 +53,9 @@ pub const NEAR_ISOTROPIC: f64 = 1e-3;
 pub struct PlaneForm {
     pub eta0: f64,
     pub d_eta: DMat3,
+    /// `ε = ε₀ I + Δε` likewise (`ε₀ = n_β²`): the ray form's tensor.
+    pub eps0: f64,
+    pub d_eps: DMat3,
     /// `max |Δη_i|` (its principal values).
     pub spread: f64,
 }
@@ -67,17 +74,21 @@ impl PlaneForm {
         let nb = s[1];
         let axes = [x, z.cross(x), z];
         let mut d_eta = DMat3::ZERO;
+        let mut d_eps = DMat3::ZERO;
         let mut spread = 0.0f64;
         for i in 0..3 {
-            // 1/n_i² − 1/n_β², from the difference of the indices (exact
-            // in f64 for close indices).
+            // 1/n_i² − 1/n_β² and n_i² − n_β², from the difference of the
+            // indices (exact in f64 for close indices).
             let di = (nb - n[i]) * (nb + n[i]) / (n[i] * n[i] * nb * nb);
             d_eta += outer(axes[i], axes[i]) * di;
+            d_eps += outer(axes[i], axes[i]) * ((n[i] - nb) * (n[i] + nb));
             spread = spread.max(di.abs());
         }
         Some(PlaneForm {
             eta0: 1.0 / (nb * nb),
             d_eta,
+            eps0: nb * nb,
+            d_eps,
             spread,
         })
     }
@@ -372,4 +383,53 @@ pub fn real_field(pf: &PlaneForm, k: DVec3) -> (DVec3, bool) {
         }
         None => (s, false),
     }
+}
+
+/// The ray form on the plane of `E` (docs/physics.md §4.8, "Nearly
+/// isotropic media"; Born & Wolf §15.2.2): for a unit ray `ŝ`, `E ⊥ ŝ` and
+/// `E = (D − (ŝ·D) ŝ)/n_r²`, so on a basis `a`, `b` of the plane normal to
+/// `ŝ`, `E = c₀ a + c₁ b` is an eigenvector of `Gᵣ = [[aᵀΔε a, aᵀΔε b],
+/// [bᵀΔε a, bᵀΔε b]]` with `n_r² = ε₀ + ν`, `ν` its eigenvalue. Returns
+/// `(n_r², E)` of the fast (smaller `n_r`) then the slow sheet; `E` is
+/// `None` where the sheets meet (a ray axis: any `E` of the plane).
+fn ray_sheets(pf: &PlaneForm, s: DVec3) -> [(f64, Option<DVec3>); 2] {
+    let a = s.any_orthonormal_vector();
+    let b = s.cross(a);
+    let (da, db) = (pf.d_eps * a, pf.d_eps * b);
+    let g = [a.dot(da), a.dot(db), b.dot(db)].map(|x| C::new(x, 0.0));
+    let [hi, lo] = eigenvalues(&g);
+    [lo, hi].map(|nu| {
+        let e = (hi != lo)
+            .then(|| eigenvector(&g, nu))
+            .flatten()
+            .map(|c| a * c[0].re + b * c[1].re);
+        (pf.eps0 + nu.re, e)
+    })
+}
+
+/// The ray indices squared `[fast, slow]` along the unit ray `s` of a
+/// nearly isotropic medium, from the ray form ([`ray_sheets`]): exact at
+/// any spread, where the ray form of Fresnel's equation as a quadratic
+/// separates its nearly double root only to `√ε`.
+pub fn ray_indices_squared(pf: &PlaneForm, s: DVec3) -> [f64; 2] {
+    ray_sheets(pf, s).map(|(x, _)| x)
+}
+
+/// The wave vector of the wave of sheet `sheet` (0 fast, 1 slow) whose ray
+/// is along the unit `s`: `E` from the ray form ([`ray_sheets`]), `D = εE`,
+/// `H ∥ ŝ × E`, `k ∥ D × H` with `k·ŝ = n_r`.
+pub fn k_from_ray(pf: &PlaneForm, sheet: usize, s: DVec3) -> DVec3 {
+    let (x, e) = ray_sheets(pf, s)[sheet];
+    let Some(e) = e else {
+        // A ray axis: the pair's wave normals meet ŝ only in the limit;
+        // the isotropic wave is the continuous choice.
+        return s * x.sqrt();
+    };
+    // D × (ŝ × E) = ŝ (D·E) − E (D·ŝ), with D·ŝ = (ΔεE)·ŝ (E ⊥ ŝ) taken
+    // from Δε so the small tilt of k from ŝ keeps its relative accuracy.
+    let de = pf.d_eps * e;
+    let d_dot_e = pf.eps0 * e.length_squared() + de.dot(e);
+    let dir = s * d_dot_e - e * de.dot(s);
+    let k_hat = dir.normalize();
+    k_hat * (x.sqrt() / k_hat.dot(s))
 }
