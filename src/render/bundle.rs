@@ -1,5 +1,6 @@
 //! o and e waves that travel together (`bundle = TOL`, docs/physics.md
-//! §10): where a node feeds a crystal's two eigenwaves on one side, the
+//! §10; in a biaxial crystal its fast and slow waves, member 0 and 1 as o
+//! and e are): where a node feeds a crystal's two eigenwaves on one side, the
 //! exact tree follows each (and each of them feeds two more at the next
 //! internal reflection: 2^depth rays). A bundle follows both along one
 //! facet sequence instead: its two members are the exact rays of the
@@ -50,7 +51,8 @@ struct Member {
 }
 
 /// A backward query for both eigenwaves of a crystal (member 0 the
-/// ordinary, member 1 the extraordinary wave), inside object `object`.
+/// ordinary or fast, member 1 the extraordinary or slow wave), inside
+/// object `object`.
 #[derive(Clone, Copy, Debug)]
 struct Bundle {
     pub members: [Member; 2],
@@ -95,22 +97,32 @@ impl Bundle {
     }
 }
 
-/// The feeder of `kind` on `side` in a node's list.
-fn find(list: &[Feeder], side: Side, kind: WaveKind) -> Option<&Feeder> {
-    list.iter()
-        .find(|f| f.wave.side == side && f.wave.kind == kind)
+/// The member that carries a wave of `kind`: 0 for the ordinary wave of
+/// a uniaxial crystal or the fast wave of a biaxial one, 1 for the
+/// extraordinary or slow wave. (A node's feeders on one side are all of
+/// one medium, so the two names never meet in one list.)
+fn member_of(kind: WaveKind) -> Option<usize> {
+    match kind {
+        WaveKind::Ordinary | WaveKind::Fast => Some(0),
+        WaveKind::Extraordinary | WaveKind::Slow => Some(1),
+        WaveKind::Isotropic => None,
+    }
 }
 
-/// The o and e feeders on `side` of a node's list (indices), when it has
-/// both.
+/// The feeder of member `m`'s wave on `side` in a node's list.
+fn find(list: &[Feeder], side: Side, m: usize) -> Option<&Feeder> {
+    list.iter()
+        .find(|f| f.wave.side == side && member_of(f.wave.kind) == Some(m))
+}
+
+/// The two eigenwave feeders on `side` of a node's list (indices, member 0
+/// then 1: o and e, or fast and slow), when it has both.
 fn eigenwave_pair(list: &[Feeder], side: Side) -> Option<(usize, usize)> {
-    let o = list
-        .iter()
-        .position(|f| f.wave.side == side && f.wave.kind == WaveKind::Ordinary)?;
-    let e = list
-        .iter()
-        .position(|f| f.wave.side == side && f.wave.kind == WaveKind::Extraordinary)?;
-    Some((o, e))
+    let at = |m| {
+        list.iter()
+            .position(|f| f.wave.side == side && member_of(f.wave.kind) == Some(m))
+    };
+    Some((at(0)?, at(1)?))
 }
 
 /// The block that takes a bundle's (o, e) modes to a node's target:
@@ -302,34 +314,19 @@ impl Tracer<'_> {
         let lists = [node_o.feeders.as_slice(), node_e.feeders.as_slice()];
         // Reflection: each member continues as its own mode's specular
         // feeder; the mode-changing feeders ride on the other member.
-        let own = [
-            find(lists[0], Side::Plus, WaveKind::Ordinary),
-            find(lists[1], Side::Plus, WaveKind::Extraordinary),
-        ];
-        let riding = [
-            find(lists[1], Side::Plus, WaveKind::Ordinary),
-            find(lists[0], Side::Plus, WaveKind::Extraordinary),
-        ];
+        let own = [find(lists[0], Side::Plus, 0), find(lists[1], Side::Plus, 1)];
+        let riding = [find(lists[1], Side::Plus, 0), find(lists[0], Side::Plus, 1)];
         let mut merged = false;
         if let [Some(fo), Some(fe)] = own {
             // R[a][c]: member a's target fed by mode c.
-            let entry = |a: usize, kind: WaveKind| {
-                find(lists[a], Side::Plus, kind)
+            let entry = |a: usize, mode: usize| {
+                find(lists[a], Side::Plus, mode)
                     .map_or(Complex64::new(0.0, 0.0), |f| f.block.m[0][0])
             };
             let r = Jones::from_entries(
                 2,
                 2,
-                [
-                    [
-                        entry(0, WaveKind::Ordinary),
-                        entry(0, WaveKind::Extraordinary),
-                    ],
-                    [
-                        entry(1, WaveKind::Ordinary),
-                        entry(1, WaveKind::Extraordinary),
-                    ],
-                ],
+                [[entry(0, 0), entry(0, 1)], [entry(1, 0), entry(1, 1)]],
             );
             // Mode c's strongest path: through whichever member feeds it
             // most.
