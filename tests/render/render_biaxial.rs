@@ -33,6 +33,24 @@ radiance = 1.0
     )
 }
 
+/// The largest difference of any Stokes component of any pixel of two
+/// renders at 550 nm, in units of the background (D65 at 550 nm, radiance
+/// 1); fails on a non-finite pixel of `b`.
+fn worst_difference(a: &spar::render::film::Film, b: &spar::render::film::Film) -> f64 {
+    let bg = spar::spectrum::cie::d65(550.0);
+    let mut worst = 0.0f64;
+    for y in 0..a.height {
+        for x in 0..a.width {
+            let (sa, sb) = (a.stokes(x, y, 0), b.stokes(x, y, 0));
+            for c in 0..4 {
+                assert!(sb[c].is_finite(), "pixel {x},{y}");
+                worst = worst.max((sa[c] - sb[c]).abs() / bg);
+            }
+        }
+    }
+    worst
+}
+
 /// Worst |I/I_bg − 1| and worst P over the image, and the nodes traced.
 fn worst(toml: &str) -> (f64, f64, u64) {
     let (di, dp, stats) = furnace_worst(toml);
@@ -87,16 +105,7 @@ fn biaxial_with_equal_indices_renders_as_the_isotropic_medium() {
     let (s_bx, _d2) = common::scene(&bx, &[]);
     let (f_iso, _) = render_at(&s_iso, &[550.0]);
     let (f_bx, _) = render_at(&s_bx, &[550.0]);
-    let bg = spar::spectrum::cie::d65(550.0);
-    let mut worst = 0.0f64;
-    for y in 0..f_iso.height {
-        for x in 0..f_iso.width {
-            let (a, b) = (f_iso.stokes(x, y, 0), f_bx.stokes(x, y, 0));
-            for c in 0..4 {
-                worst = worst.max((a[c] - b[c]).abs() / bg);
-            }
-        }
-    }
+    let worst = worst_difference(&f_iso, &f_bx);
     eprintln!(
         "equal-index biaxial vs isotropic: worst Stokes difference {worst:.2e} of the background"
     );
@@ -121,7 +130,6 @@ fn nearly_isotropic_biaxial_renders_finite_without_lost_rays() {
     let light = "[[light]]\ncorners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], \
                  [-2.0, 2.0, -1.5]]\npolarization = { linear = [1.0, 0.3, 0.0] }\n";
     let axes = "crystal_axes = { z = [0.3, 0.5, 0.8], x = [1.0, 0.0, 0.2] }";
-    let bg = spar::spectrum::cie::d65(550.0);
     for model in ["physical", "incoherent"] {
         let extra = format!("max_depth = 8\nprune = 0.0\ncoherence = \"{model}\"");
         let (s_iso, _d1) = common::scene(&gem_scene(light, "iso:1.7", "", &extra), &[]);
@@ -130,16 +138,7 @@ fn nearly_isotropic_biaxial_renders_finite_without_lost_rays() {
             let name = format!("biaxial:{}:1.7:{}", 1.7 * (1.0 + d), 1.7 * (1.0 - 0.6 * d));
             let (s_bx, _d2) = common::scene(&gem_scene(light, &name, axes, &extra), &[]);
             let (f_bx, stats) = render_at(&s_bx, &[550.0]);
-            let mut worst = 0.0f64;
-            for y in 0..f_iso.height {
-                for x in 0..f_iso.width {
-                    let (a, b) = (f_iso.stokes(x, y, 0), f_bx.stokes(x, y, 0));
-                    for c in 0..4 {
-                        assert!(b[c].is_finite(), "{name}: pixel {x},{y}");
-                        worst = worst.max((a[c] - b[c]).abs() / bg);
-                    }
-                }
-            }
+            let worst = worst_difference(&f_iso, &f_bx);
             eprintln!(
                 "{model}, {name}: {} rays, {} lost; worst Stokes difference from iso:1.7 \
                  {worst:.2e} of the background",
@@ -165,7 +164,6 @@ fn nearly_uniaxial_biaxial_renders_as_the_nearly_uniaxial_crystal() {
     let light = "[[light]]\ncorners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], \
                  [-2.0, 2.0, -1.5]]\npolarization = { linear = [1.0, 0.3, 0.0] }\n";
     let extra = "max_depth = 8\nprune = 0.0\ncoherence = \"physical\"";
-    let bg = spar::spectrum::cie::d65(550.0);
     for d in [1e-7, 1e-13] {
         let n_e = 1.7 * (1.0 + d);
         let uni = gem_scene(
@@ -184,15 +182,7 @@ fn nearly_uniaxial_biaxial_renders_as_the_nearly_uniaxial_crystal() {
         let (s_bx, _d2) = common::scene(&bx, &[]);
         let (f_uni, st_uni) = render_at(&s_uni, &[550.0]);
         let (f_bx, st_bx) = render_at(&s_bx, &[550.0]);
-        let mut worst = 0.0f64;
-        for y in 0..f_uni.height {
-            for x in 0..f_uni.width {
-                let (a, b) = (f_uni.stokes(x, y, 0), f_bx.stokes(x, y, 0));
-                for c in 0..4 {
-                    worst = worst.max((a[c] - b[c]).abs() / bg);
-                }
-            }
-        }
+        let worst = worst_difference(&f_uni, &f_bx);
         eprintln!(
             "d = {d:e}: nearly uniaxial biaxial vs uniaxial: worst Stokes difference {worst:.2e} \
              of the background; {} and {} paths added as amplitudes",
@@ -344,16 +334,7 @@ fn biaxial_with_two_equal_indices_renders_as_the_uniaxial_crystal() {
     let (s_bx, _d2) = common::scene(&bx, &[]);
     let (f_uni, _) = render_at(&s_uni, &[550.0]);
     let (f_bx, _) = render_at(&s_bx, &[550.0]);
-    let bg = spar::spectrum::cie::d65(550.0);
-    let mut worst = 0.0f64;
-    for y in 0..f_uni.height {
-        for x in 0..f_uni.width {
-            let (a, b) = (f_uni.stokes(x, y, 0), f_bx.stokes(x, y, 0));
-            for c in 0..4 {
-                worst = worst.max((a[c] - b[c]).abs() / bg);
-            }
-        }
-    }
+    let worst = worst_difference(&f_uni, &f_bx);
     eprintln!("two-equal-index biaxial vs uniaxial: worst Stokes difference {worst:.2e} of the background");
     assert!(worst < 1e-9, "worst difference {worst}");
 }
