@@ -26,8 +26,8 @@ use std::io::Write;
 #[derive(clap::Args, Debug)]
 pub struct InterfaceArgs {
     /// Medium of the incident wave: a built-in name (e.g. air, n-bk7,
-    /// calcite, quartz, sapphire, diamond, topaz), `iso:N`, `uniaxial:NO:NE`
-    /// or `biaxial:NX:NY:NZ`.
+    /// calcite, quartz, sapphire, diamond, topaz, peridot), `iso:N`,
+    /// `uniaxial:NO:NE` or `biaxial:NX:NY:NZ`.
     #[arg(long, value_name = "MEDIUM")]
     pub from: String,
     /// Medium on the other side of the interface (same forms as --from).

@@ -1,16 +1,19 @@
 //! Gem materials: dispersion from published fits, and for coloured
 //! varieties absorption per eigenwave (docs/materials.md has the table with
-//! every source).
+//! every source). Biaxial gems (topaz, peridot, tanzanite, chrysoberyl)
+//! have their principal indices n_α ≤ n_β ≤ n_γ along crystal x, y, z and
+//! absorb nothing (biaxial absorption is not modelled).
 //!
 //! Dispersion: each index is the published fit as its paper (or the
 //! refractiveindex.info database entry that reproduces it, named below)
 //! gives it, transformed here only in form (`A + B/(λ² − C)` becomes the
 //! Sellmeier form `(A − B/C) + (B/C) λ²/(λ² − C)`, exactly). Where no
 //! Sellmeier fit of a gem mineral is published (beryl, tourmaline,
-//! zircon), the index is the Cauchy law `n = a + b/λ²` through two
-//! published gemmological constants: the index at the sodium D line
-//! (589.3 nm) and the dispersion `n(430.8 nm) − n(686.7 nm)` (the B–G
-//! interval of the Fraunhofer lines), the same `b` for both waves.
+//! zircon, topaz, peridot, tanzanite), the index is the Cauchy law
+//! `n = a + b/λ²` through two published gemmological constants: the index
+//! at the sodium D line (589.3 nm) and the dispersion
+//! `n(430.8 nm) − n(686.7 nm)` (the B–G interval of the Fraunhofer lines),
+//! the same `b` for every wave (so the indices never cross).
 //!
 //! Absorption: sums of Gaussian bands ([`Curve::Bands`]). The band
 //! centres are the published positions of each chromophore's bands for
@@ -45,6 +48,10 @@ pub const GEM_NAMES: &[&str] = &[
     "zincite",
     "scheelite",
     "bromellite",
+    "topaz",
+    "peridot",
+    "tanzanite",
+    "chrysoberyl",
 ];
 
 /// Names of the built-in absorption spectra, per mm: a stone's `-o`
@@ -206,6 +213,70 @@ pub fn gem(key: &str, sapphire: fn() -> Material) -> Option<Material> {
             Dispersion::sellmeier_poles(1.0, &[(1.92274, 0.07908), (1.24209, 9.7131)]),
             Dispersion::sellmeier_poles(1.0, &[(1.96939, 0.08590), (1.67389, 10.4797)]),
         ),
+        // Biaxial gems: principal indices n_α ≤ n_β ≤ n_γ along crystal x,
+        // y, z (the indicatrix axes X, Y, Z; docs/materials.md, "Biaxial
+        // gems"). Colourless here: biaxial media do not absorb in spar.
+        //
+        // Topaz (colourless and blue, the fluorine-rich topaz these colours
+        // come in): Anthony, Bideaux, Bladh & Nichols, Handbook of
+        // Mineralogy, vol. II (Mineralogical Society of America, 1995),
+        // topaz: α 1.606–1.629, β 1.609–1.631, γ 1.616–1.638, biaxial (+),
+        // 2V(meas.) 48°–68°. The three indices rise together with OH for F,
+        // so the low end of each range is one composition, F-rich topaz,
+        // with the largest 2V. Dispersion 0.014 (GIA Gem Reference Guide,
+        // 1995).
+        "topaz" => biaxial(
+            "topaz",
+            gemmological(1.606, 0.014),
+            gemmological(1.609, 0.014),
+            gemmological(1.616, 0.014),
+        ),
+        // Peridot (forsterite-rich olivine): GIA Gem Reference Guide (1995),
+        // RI 1.654–1.690 (n_α–n_γ), birefringence 0.036, dispersion 0.020,
+        // biaxial "positive or negative", β "usually near halfway between
+        // α and γ": β is taken at the midpoint, 1.672 (2V ≈ 90°).
+        "peridot" => biaxial(
+            "peridot",
+            gemmological(1.654, 0.020),
+            gemmological(1.672, 0.020),
+            gemmological(1.690, 0.020),
+        ),
+        // Tanzanite (blue zoisite): O'Donoghue (ed.), Gems, 6th ed.
+        // (Butterworth-Heinemann, 2006), tanzanite: α 1.692, β 1.693,
+        // γ 1.700, biaxial (+); dispersion 0.012 (The Gemology Project,
+        // zoisite).
+        "tanzanite" => biaxial(
+            "tanzanite",
+            gemmological(1.692, 0.012),
+            gemmological(1.693, 0.012),
+            gemmological(1.700, 0.012),
+        ),
+        // Chrysoberyl (BeAl₂O₄): Walling, Peterson, Jenssen, Morris &
+        // O'Dell, "Tunable alexandrite lasers", IEEE J. Quantum Electron.
+        // 16, 1302 (1980), measured indices; fitted by Loiko & Major,
+        // "Dispersive properties of alexandrite and beryllium
+        // hexaaluminate crystals", Opt. Mater. Express 6, 2177 (2016), as
+        // refractiveindex.info BeAl2O4/Walling-c, -a, -b (light polarized
+        // along the Pnma axes c, a, b: n_α, n_β, n_γ):
+        // n² = A + B λ²/(λ² − C) − D λ².
+        "chrysoberyl" => biaxial(
+            "chrysoberyl",
+            Dispersion::SellmeierIr {
+                a: 1.70690,
+                terms: vec![(1.28477, 0.01169)],
+                ir: 0.01760,
+            },
+            Dispersion::SellmeierIr {
+                a: 1.78522,
+                terms: vec![(1.21202, 0.01262)],
+                ir: 0.01681,
+            },
+            Dispersion::SellmeierIr {
+                a: 1.58829,
+                terms: vec![(1.42711, 0.01113)],
+                ir: 0.01696,
+            },
+        ),
         _ => return None,
     })
 }
@@ -260,6 +331,11 @@ fn isotropic(name: &str, n: Dispersion) -> Material {
 
 fn uniaxial(name: &str, n_o: Dispersion, n_e: Dispersion) -> Material {
     Material::uniaxial(name, n_o, n_e).expect("valid")
+}
+
+/// A biaxial gem with `n_α`, `n_β`, `n_γ` along crystal x, y, z.
+fn biaxial(name: &str, alpha: Dispersion, beta: Dispersion, gamma: Dispersion) -> Material {
+    Material::biaxial(name, alpha, beta, gamma).expect("valid")
 }
 
 /// Beryl (emerald, aquamarine): GIA Gem Reference Guide (1995), RI

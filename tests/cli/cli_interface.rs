@@ -471,3 +471,51 @@ fn air_is_the_air_renders_use() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("air (isotropic, n = 1.000000)"), "{text}");
 }
+
+/// The built-in biaxial gems by name (`--help` gives topaz as an example):
+/// the table reports the principal indices along crystal x, y, z and 2V,
+/// the solve conserves energy, and the help text's example exists.
+#[test]
+fn biaxial_gems_by_name_report_2v() {
+    for (name, indices, two_v) in [
+        (
+            "topaz",
+            "n_x = 1.606000, n_y = 1.609000, n_z = 1.616000",
+            "2V = 66.6",
+        ),
+        ("chrysoberyl", "n_x = 1.7407", "2V = 61.1"),
+        ("tanzanite", "n_x = 1.692000", "2V = 41.5"),
+    ] {
+        let args = [
+            "--from",
+            "air",
+            "--to",
+            name,
+            "--axis",
+            "0,1,1",
+            "--incident",
+            "0.3,0.1,-1",
+            "--mode",
+            "s",
+        ];
+        let out = spar(&args);
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(text.contains(&format!("to   {name} (biaxial, ")), "{text}");
+        assert!(text.contains(indices), "{name}: {text}");
+        assert!(text.contains(two_v), "{name}: {text}");
+        let mut json = args.to_vec();
+        json.push("--json");
+        let doc: serde_json::Value = serde_json::from_slice(&spar(&json).stdout).unwrap();
+        let sum = doc["energy_sum"].as_f64().unwrap();
+        assert!((sum - 1.0).abs() < 1e-9, "{name}: energy sum {sum}");
+    }
+    let help = run::spar_in(None, &["interface", "--help"]);
+    let help = String::from_utf8_lossy(&help.stdout);
+    assert!(help.contains("topaz"), "{help}");
+}
