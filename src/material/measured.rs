@@ -29,7 +29,7 @@ use std::f64::consts::LN_10;
 /// 1 nm rows at the maxima (398 nm E ∥ c Y band, 558 nm E ⊥ c U band)
 /// and at the R lines (692–694 nm). The flat ~1.5·10⁻²¹ cm² beyond
 /// 640 nm is, per the data sheet, instrument baseline; it is left in
-/// (0.015 mm⁻¹ at [`RUBY_CR_PER_CM3`]).
+/// (0.03 mm⁻¹ at [`RUBY_CR_PER_CM3`]).
 pub const RUBY_CR_SIGMA_CM2: &[(f64, f64, f64)] = &[
     (380.0, 7.724e-20, 1.765e-19),
     (385.0, 9.618e-20, 2.256e-19),
@@ -119,11 +119,14 @@ pub const RUBY_CR_SIGMA_CM2: &[(f64, f64, f64)] = &[
     (780.0, 1.589e-21, 1.321e-21),
 ];
 
-/// The Cr³⁺ concentration of the built-in ruby, per cm³: 1.0·10²⁰
-/// (850 ppma of all atoms, 0.32 wt% Cr₂O₃, inside the 0.1–1 wt% of
-/// natural rubies), so that α per mm is σ / 10⁻¹⁹ cm²: the E ⊥ c U band
-/// 1.62 mm⁻¹.
-pub const RUBY_CR_PER_CM3: f64 = 1.0e20;
+/// The Cr³⁺ concentration of the built-in ruby, per cm³: 2.0·10²⁰
+/// (1700 ppma of all atoms, 0.63 wt% Cr₂O₃), so that α per mm is
+/// σ / (5·10⁻²⁰ cm²): the E ⊥ c U band 3.25 mm⁻¹. Light crosses a
+/// 6 mm stone along about 1 cm: 1700 ppma·cm, where the colours the
+/// article computes from these spectra (its Appendix 2, D65) have E ⊥ c
+/// red (L* 25, a* 65, b* 3 at 1500 ppma·cm; purplish, b* −18, at half
+/// that). At half this concentration the gallery ruby rendered pink.
+pub const RUBY_CR_PER_CM3: f64 = 2.0e20;
 
 /// Fe²⁺–Ti⁴⁺ pairs in corundum: absorption cross-section σ per pair, cm²
 /// (natural log, reflection-corrected), E ⊥ c and E ∥ c. Dubinsky et al.
@@ -218,9 +221,10 @@ pub const SAPPHIRE_FETI_SIGMA_CM2: &[(f64, f64, f64)] = &[
 ];
 
 /// The Fe²⁺–Ti⁴⁺ pair concentration of the built-in blue sapphire, per
-/// cm³: 2.0·10¹⁸ (17 ppma of all atoms), a medium blue (the E ⊥ c band
-/// 0.40 mm⁻¹ at 580 nm), so that α per mm is σ · 2·10¹⁷ cm⁻².
-pub const SAPPHIRE_FETI_PER_CM3: f64 = 2.0e18;
+/// cm³: 4.0·10¹⁸ (34 ppma of all atoms), so that α per mm is
+/// σ · 4·10¹⁷ cm⁻² (the E ⊥ c band 0.79 mm⁻¹ at 580 nm): a medium blue
+/// in a 6 mm stone (at half this the gallery stone rendered pale blue).
+pub const SAPPHIRE_FETI_PER_CM3: f64 = 4.0e18;
 
 /// Emerald, Caltech GRR 3570 (Afghanistan), decadic absorbance of a
 /// 0.859 mm plate, E ⊥ c and E ∥ c: G. R. Rossman, Mineral Spectroscopy

@@ -122,7 +122,7 @@ fn spectrum(name: &str) -> Curve {
 /// the sources: Dubinsky et al., Gems & Gemology 56(1) (2020), data
 /// sheet, σ per Cr³⁺ ion and per Fe²⁺–Ti⁴⁺ pair in cm²; Caltech GRR 3570
 /// emerald, decadic absorbance of a 0.859 mm plate), converted as
-/// docs/materials.md states: α = σ N (N = 1.0·10²⁰ Cr per cm³, 2.0·10¹⁸
+/// docs/materials.md states: α = σ N (N = 2.0·10²⁰ Cr per cm³, 4.0·10¹⁸
 /// Fe–Ti pairs per cm³), per mm a tenth; the emerald
 /// α = ⅓ · ln 10 · (A − A_faces) / 0.859 mm with A_faces the two faces'
 /// reflection, −2 log₁₀(1 − ((n − 1)/(n + 1))²), n = 1.580 (o), 1.574 (e).
@@ -132,16 +132,16 @@ fn measured_spectra_reproduce_their_sources() {
     let faces = |n: f64| -2.0 * (1.0 - ((n - 1.0) / (n + 1.0)).powi(2)).log10();
     let emerald = |a: f64, n: f64| std::f64::consts::LN_10 * (a - faces(n)) / 0.859 / 3.0;
     let cases: &[(&str, f64, f64)] = &[
-        ("ruby-o", 558.0, sigma(1.623e-19, 1e20)),
-        ("ruby-o", 410.0, sigma(1.653e-19, 1e20)),
-        ("ruby-o", 480.0, sigma(1.393e-20, 1e20)),
-        ("ruby-e", 398.0, sigma(2.985e-19, 1e20)),
-        ("ruby-e", 545.0, sigma(5.503e-20, 1e20)),
-        ("ruby-e", 693.0, sigma(2.032e-21, 1e20)),
-        ("blue-sapphire-o", 580.0, sigma(1.980e-18, 2e18)),
-        ("blue-sapphire-o", 450.0, sigma(4.538e-19, 2e18)),
-        ("blue-sapphire-e", 705.0, sigma(1.255e-18, 2e18)),
-        ("blue-sapphire-e", 500.0, sigma(5.951e-19, 2e18)),
+        ("ruby-o", 558.0, sigma(1.623e-19, 2e20)),
+        ("ruby-o", 410.0, sigma(1.653e-19, 2e20)),
+        ("ruby-o", 480.0, sigma(1.393e-20, 2e20)),
+        ("ruby-e", 398.0, sigma(2.985e-19, 2e20)),
+        ("ruby-e", 545.0, sigma(5.503e-20, 2e20)),
+        ("ruby-e", 693.0, sigma(2.032e-21, 2e20)),
+        ("blue-sapphire-o", 580.0, sigma(1.980e-18, 4e18)),
+        ("blue-sapphire-o", 450.0, sigma(4.538e-19, 4e18)),
+        ("blue-sapphire-e", 705.0, sigma(1.255e-18, 4e18)),
+        ("blue-sapphire-e", 500.0, sigma(5.951e-19, 4e18)),
         ("emerald-o", 605.0, emerald(0.62194, 1.580)),
         ("emerald-o", 510.0, emerald(0.18165, 1.580)),
         ("emerald-e", 645.0, emerald(0.87089, 1.574)),
@@ -152,11 +152,11 @@ fn measured_spectra_reproduce_their_sources() {
         assert_close(got, want, 1e-12 * want, &format!("{name} at {nm} nm"));
     }
     // The conversions' scale, spelled out: the ruby's E ⊥ c U band
-    // 1.623 mm⁻¹, the sapphire's 0.396 mm⁻¹, the emerald's 0.516 mm⁻¹.
-    assert_close(spectrum("ruby-o").per_mm(558.0), 1.623, 1e-9, "ruby U");
+    // 3.246 mm⁻¹, the sapphire's 0.792 mm⁻¹, the emerald's 0.516 mm⁻¹.
+    assert_close(spectrum("ruby-o").per_mm(558.0), 3.246, 1e-9, "ruby U");
     assert_close(
         spectrum("blue-sapphire-o").per_mm(580.0),
-        0.396,
+        0.792,
         1e-9,
         "sapphire",
     );
