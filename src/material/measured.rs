@@ -24,7 +24,7 @@ use std::f64::consts::LN_10;
 /// color in corundum", Gems & Gemology 56(1), 2–28 (2020), its
 /// absorption cross-section data sheet (the spreadsheet published with
 /// the article, column Cr³⁺): GIA sample 1110, a Czochralski synthetic
-/// ruby wafer (c in its plane) with 134 ppma Cr by SIMS, 1 nm steps,
+/// ruby wafer (c in its plane, Cr measured by SIMS), 1 nm steps,
 /// 1.5 nm resolution. Rows here: every 5 nm from 380 to 780 nm, with the
 /// 1 nm rows at the maxima (398 nm E ∥ c Y band, 558 nm E ⊥ c U band)
 /// and at the R lines (692–694 nm). The flat ~1.5·10⁻²¹ cm² beyond
