@@ -15,16 +15,18 @@
 //! `n(430.8 nm) − n(686.7 nm)` (the B–G interval of the Fraunhofer lines),
 //! the same `b` for every wave (so the indices never cross).
 //!
-//! Absorption: sums of Gaussian bands ([`Curve::Bands`]). The band
-//! centres are the published positions of each chromophore's bands for
-//! the field normal to the optic axis (`o`, the σ or E ⊥ c spectrum) and
-//! along it (`e`, π, E ∥ c), cited per stone. The heights and widths are
-//! not digitized from a measured curve: they are set so that each stone's
-//! o/e ratios and colours follow the cited spectra, at the depth of
-//! colour of a medium-toned stone a few mm across. A measured table can
-//! replace a curve in a scene (`absorption_o = { nm = […], per_mm = […] }`).
+//! Absorption: ruby, blue sapphire and emerald are measured spectra
+//! (tables, [`Curve::Table`], from [`super::measured`], which names each
+//! source and its conversion to α per mm); aquamarine is still a sum of
+//! Gaussian bands ([`Curve::Bands`]) at its cited band positions for the
+//! field normal to the optic axis (`o`, the σ or E ⊥ c spectrum) and
+//! along it (`e`, π, E ∥ c), the heights and widths set by hand so that
+//! its colours follow the cited spectra (no measured coefficients of an
+//! aquamarine were at hand). A scene can give any measured table instead
+//! (`absorption_o = { nm = […], per_mm = […] }`).
 
 use super::absorption::{Absorption, Curve};
+use super::measured;
 use super::{Dispersion, Material};
 
 /// Gem names [`gem`] knows (case-insensitive; `_` and spaces count as
@@ -287,34 +289,57 @@ pub fn spectrum(key: &str) -> Option<Curve> {
         floor: 0.0,
         bands: bands.to_vec(),
     };
+    // A measured table: column `o` (E ⊥ c) or `e` (E ∥ c) of `rows`, each
+    // value turned into α per mm by `per_mm`.
+    let table = |rows: &[(f64, f64, f64)], e: bool, per_mm: &dyn Fn(f64) -> f64| Curve::Table {
+        nm: rows.iter().map(|r| r.0).collect(),
+        per_mm: rows
+            .iter()
+            .map(|r| per_mm(if e { r.2 } else { r.1 }))
+            .collect(),
+    };
+    let ruby = |s: f64| measured::cross_section_per_mm(s, measured::RUBY_CR_PER_CM3);
+    let sapphire = |s: f64| measured::cross_section_per_mm(s, measured::SAPPHIRE_FETI_PER_CM3);
+    // Beryl's ω and ε at 589 nm ([`beryl`]) for each wave's reflection.
+    let emerald = |n: f64| {
+        move |a: f64| {
+            measured::absorbance_per_mm(a, n, measured::EMERALD_GRR3570_MM, measured::EMERALD_SCALE)
+        }
+    };
     Some(match key {
-        // Cr³⁺ in corundum: the U (⁴A₂→⁴T₂) and Y (⁴A₂→⁴T₁) bands at
-        // 18 000 and 24 400 cm⁻¹ for E ⊥ c, 18 450 and 25 200 cm⁻¹ for
-        // E ∥ c, the U band weaker in E ∥ c (McClure, "Optical spectra of
+        // Cr³⁺ in corundum, measured (Dubinsky et al. 2020,
+        // [`measured::RUBY_CR_SIGMA_CM2`]): the U and Y bands at 558 and
+        // 410 nm for E ⊥ c, 545 and 398 nm for E ∥ c, the U band a third
+        // as strong in E ∥ c, as McClure ("Optical spectra of
         // transition-metal ions in corundum", J. Chem. Phys. 36, 2757
-        // (1962)): the o colour purplish red, the e colour orangy red.
-        "ruby-o" => bands(&[(555.6, 0.36, 1.6), (409.8, 0.60, 1.8)]),
-        "ruby-e" => bands(&[(542.0, 0.36, 1.1), (396.8, 0.60, 1.8)]),
-        // Fe²⁺–Ti⁴⁺ charge transfer in corundum, near 565 nm for E ⊥ c
-        // and 700 nm for E ∥ c (with a weaker 565 nm band; Townsend, "Visible charge transfer band in
-        // blue sapphire", Solid State Commun. 6, 81 (1968)), with the Fe³⁺
-        // band at 450 nm: the o colour violetish blue, the e colour
-        // greenish blue.
-        "blue-sapphire-o" => bands(&[(565.0, 0.60, 0.9), (450.0, 0.06, 0.3)]),
-        "blue-sapphire-e" => bands(&[(700.0, 0.60, 0.8), (565.0, 0.60, 0.35), (450.0, 0.06, 0.25)]),
-        // Cr³⁺ in beryl: ⁴T₂ and ⁴T₁ bands near 16 100 and 23 500 cm⁻¹
-        // for E ⊥ c, moved toward the red and the violet for E ∥ c (Wood,
-        // Ferguson, Knox & Dillon, "Crystal-field spectra of d³,⁷ ions.
-        // III", J. Chem. Phys. 39, 890 (1963)): the o colour yellowish
-        // green, the e colour bluish green.
-        "emerald-o" => bands(&[(620.0, 0.35, 0.5), (425.0, 0.40, 0.6)]),
-        "emerald-e" => bands(&[(645.0, 0.35, 0.45), (418.0, 0.40, 0.45)]),
-        // Fe in beryl: Fe²⁺ near 820 nm in both, the Fe²⁺–Fe³⁺ charge
-        // transfer near 620 nm for E ∥ c (Goldman, Rossman & Parkin,
-        // "Channel constituents in beryl", Phys. Chem. Minerals 3, 225
-        // (1978)), Fe³⁺ at 427 nm in both and 370 nm for E ⊥ c (Choudhary,
-        // "Aquamarine with unusually strong dichroism", Gems & Gemology
-        // 50(3), 2014): the e colour blue, the o colour pale bluish green.
+        // (1962)) places them (555.6, 409.8; 542.0, 396.8 nm): the o
+        // colour purplish red, the e colour orangy red.
+        "ruby-o" => table(measured::RUBY_CR_SIGMA_CM2, false, &ruby),
+        "ruby-e" => table(measured::RUBY_CR_SIGMA_CM2, true, &ruby),
+        // Fe²⁺–Ti⁴⁺ charge transfer in corundum, measured (Dubinsky et al.
+        // 2020, [`measured::SAPPHIRE_FETI_SIGMA_CM2`]): the band at 580 nm
+        // for E ⊥ c, near 705 nm and weaker for E ∥ c (Townsend, "Visible
+        // charge transfer band in blue sapphire", Solid State Commun. 6,
+        // 81 (1968): 700 nm): the o colour violetish blue, the e colour
+        // greenish blue. Fe³⁺ (the 450 nm line) is not in it.
+        "blue-sapphire-o" => table(measured::SAPPHIRE_FETI_SIGMA_CM2, false, &sapphire),
+        "blue-sapphire-e" => table(measured::SAPPHIRE_FETI_SIGMA_CM2, true, &sapphire),
+        // Cr³⁺ in beryl, measured (Caltech GRR 3570,
+        // [`measured::EMERALD_GRR3570_ABSORBANCE`]): the ⁴T₂ (U) band at
+        // 605 nm and the ⁴T₁ (Y) band at 435 nm for E ⊥ c; for E ∥ c the U
+        // band moved toward the red (645 nm) and the Y band toward the
+        // violet (420 nm), as Wood, Ferguson, Knox & Dillon ("Crystal-field
+        // spectra of d³,⁷ ions. III", J. Chem. Phys. 39, 890 (1963))
+        // describe: the o colour yellowish green, the e colour bluish green.
+        "emerald-o" => table(measured::EMERALD_GRR3570_ABSORBANCE, false, &emerald(1.580)),
+        "emerald-e" => table(measured::EMERALD_GRR3570_ABSORBANCE, true, &emerald(1.574)),
+        // Fe in beryl, modelled: Fe²⁺ near 820 nm in both, the Fe²⁺–Fe³⁺
+        // charge transfer near 620 nm for E ∥ c (Goldman, Rossman &
+        // Parkin, "Channel constituents in beryl", Phys. Chem. Minerals 3,
+        // 225 (1978)), Fe³⁺ at 427 nm in both and 370 nm for E ⊥ c
+        // (Choudhary, "Aquamarine with unusually strong dichroism", Gems &
+        // Gemology 50(3), 2014): the e colour blue, the o colour pale
+        // bluish green.
         "aquamarine-o" => bands(&[(820.0, 0.45, 0.15), (427.0, 0.15, 0.05), (370.0, 0.2, 0.08)]),
         "aquamarine-e" => bands(&[
             (620.0, 0.45, 0.12),

@@ -10,6 +10,7 @@ pub mod absorption;
 pub mod catalog;
 pub mod dispersion;
 pub mod gems;
+pub mod measured;
 
 pub use absorption::{Absorption, Curve};
 pub use catalog::{builtin, BUILTIN_NAMES};
