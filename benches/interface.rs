@@ -1,6 +1,7 @@
 //! Interface solves per second (criterion): closed-form Fresnel, the same
 //! isotropic problem through the 4×4 solver, uniaxial forward solves, and
-//! the renderer's backward query for glass and calcite.
+//! the renderer's backward query for glass, calcite and a topaz-like
+//! biaxial crystal (the general eigenwave solver).
 //!
 //! Run: `cargo bench --no-default-features --bench interface`. Each
 //! iteration solves a batch of 1024 precomputed random configurations, so
@@ -50,6 +51,16 @@ fn calcite() -> Medium {
     }
 }
 
+/// Topaz-like principal indices (2V ≈ 57°), crystal axes tilted.
+fn topaz_like() -> Medium {
+    Medium::biaxial(
+        [1.6093, 1.6116, 1.6194],
+        DVec3::new(0.3, 0.5, 0.8).normalize(),
+        DVec3::new(1.0, 0.0, 0.2),
+    )
+    .unwrap()
+}
+
 fn bench(c: &mut Criterion) {
     let mut rng = Pcg64::seed_from_u64(1);
     let air = Medium::Isotropic { n: 1.0 };
@@ -57,6 +68,8 @@ fn bench(c: &mut Criterion) {
     let g = Interface::new(DVec3::Z, air, glass).unwrap();
     let cal_in = Interface::new(DVec3::Z, air, calcite()).unwrap();
     let cal_out = Interface::new(DVec3::Z, calcite(), air).unwrap();
+    let bx_in = Interface::new(DVec3::Z, air, topaz_like()).unwrap();
+    let bx_out = Interface::new(DVec3::Z, topaz_like(), air).unwrap();
 
     // Incident wave vectors from side + (toward −z).
     let down = directions(&mut rng, -1.0);
@@ -189,6 +202,23 @@ fn bench(c: &mut Criterion) {
             })
         },
     );
+    for (name, iface, kind) in [
+        ("biaxial, slow wave inside", &bx_in, WaveKind::Slow),
+        ("biaxial, air side", &bx_out, WaveKind::Isotropic),
+    ] {
+        group.bench_function(BenchmarkId::new("backward query", name), |b| {
+            b.iter(|| {
+                let mut acc = 0usize;
+                for r in &rays_minus {
+                    acc += iface
+                        .feeders(Side::Minus, kind, black_box(*r))
+                        .unwrap()
+                        .len();
+                }
+                acc
+            })
+        });
+    }
     group.finish();
 }
 

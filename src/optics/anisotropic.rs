@@ -214,17 +214,19 @@ fn polish(c: &[f64; 5], mut z: Complex64, real: bool) -> Complex64 {
     if real {
         z.im = 0.0;
     }
-    let mut pz = horner(c, z).0.norm();
+    // Moduli as √(re² + im²), not `norm()`'s overflow-safe `hypot` (a
+    // seventh of a biaxial render's time): these values are O(1e-16…10).
+    let mut pz = horner(c, z).0.norm_sqr().sqrt();
     for _ in 0..4 {
         let (p, d, _) = horner(c, z);
-        if d.norm() == 0.0 {
+        if d.norm_sqr() == 0.0 {
             break;
         }
         let mut next = z - p / d;
         if real {
             next.im = 0.0;
         }
-        let pn = horner(c, next).0.norm();
+        let pn = horner(c, next).0.norm_sqr().sqrt();
         if !(pn < pz) {
             break;
         }
@@ -249,11 +251,12 @@ fn aberth(c: &[f64; 5]) -> [Complex64; 4] {
         .max(1e-3);
     let mut z: [Complex64; 4] = [0, 1, 2, 3]
         .map(|j| Complex64::from_polar(r, 0.4 + std::f64::consts::FRAC_PI_2 * j as f64) + centre);
+    let mut last = f64::INFINITY;
     for _ in 0..200 {
         let mut moved = 0.0f64;
         for j in 0..4 {
             let (p, d, _) = horner(c, z[j]);
-            if p.norm() == 0.0 {
+            if p.norm_sqr() == 0.0 {
                 continue;
             }
             let ratio = p / d;
@@ -266,12 +269,16 @@ fn aberth(c: &[f64; 5]) -> [Complex64; 4] {
             let step = ratio / (Complex64::new(1.0, 0.0) - ratio * sum);
             if step.is_finite() {
                 z[j] -= step;
-                moved = moved.max(step.norm() / (1.0 + z[j].norm()));
+                moved = moved.max(step.norm_sqr().sqrt() / (1.0 + z[j].norm_sqr().sqrt()));
             }
         }
-        if moved < 1e-15 {
+        // Converged, or at the rounding floor: near a cluster of roots
+        // rounding moves them by ε|p|/|p'| ≫ 1e-15 each step, and the
+        // steps stop shrinking (the roots are polished afterwards).
+        if moved < 1e-15 || (moved < 1e-9 && moved >= 0.5 * last) {
             break;
         }
+        last = moved;
     }
     z
 }
@@ -623,14 +630,16 @@ fn refine(tensor: &Tensor, frame: &TangentFrame, q0: Complex64) -> (Complex64, C
         };
         let kn = k.dot_real(n);
         let den = (k.dot(e) * e.dot_real(n) - kn * ee) * 2.0;
-        if den.norm() == 0.0 {
+        if den.norm_sqr() == 0.0 {
             break;
         }
         let mut step = num / den;
         if q.im == 0.0 {
             step.im = 0.0;
         }
-        if !(step.norm() <= CLUSTER * (1.0 + q.norm())) || step.norm() == 0.0 {
+        if !(step.norm_sqr().sqrt() <= CLUSTER * (1.0 + q.norm_sqr().sqrt()))
+            || step.norm_sqr() == 0.0
+        {
             break;
         }
         q -= step;
