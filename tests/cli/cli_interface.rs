@@ -485,6 +485,7 @@ fn biaxial_gems_by_name_report_2v() {
         ),
         ("chrysoberyl", "n_x = 1.7407", "2V = 61.1"),
         ("tanzanite", "n_x = 1.692000", "2V = 41.5"),
+        ("iolite", "n_x = 1.530000", "2V = 83.87"),
     ] {
         let args = [
             "--from",

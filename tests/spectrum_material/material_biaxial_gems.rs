@@ -1,5 +1,5 @@
 //! The biaxial gems of the catalogue (`spar::material::gems`: topaz,
-//! peridot, tanzanite, chrysoberyl) against the published constants typed
+//! peridot, tanzanite, chrysoberyl, iolite) against the published constants typed
 //! here from their sources (docs/materials.md, "Biaxial gems"), and the
 //! optic angle 2V computed here from the indices, independently of
 //! `spar::optics::anisotropic::half_optic_angle`.
@@ -45,6 +45,15 @@ const PUBLISHED: &[Published] = &[
     Published {
         name: "tanzanite",
         n: [1.692, 1.693, 1.700],
+        tol: 5e-4,
+        two_v: None,
+    },
+    // Arem, Color Encyclopedia of Gemstones (2nd ed., 1987), cordierite
+    // from Sri Lanka: α 1.530, β 1.534, γ 1.539, biaxial (+), 2V 65°–104°
+    // for the species (checked below: positive, 2V inside the range).
+    Published {
+        name: "iolite",
+        n: [1.530, 1.534, 1.539],
         tol: 5e-4,
         two_v: None,
     },
@@ -167,6 +176,13 @@ fn biaxial_gem_optic_angles_match_published_values() {
     // range 0°–69°.
     let (two_v, positive) = optic_angle(principal("tanzanite", 589.3));
     assert!(positive && two_v <= 69.0, "tanzanite 2V {two_v}");
+    // Iolite: Arem's sign (+) and 2V range 65°–104° (2V_z; computed from
+    // his specimen's indices by hand: 83.9°).
+    let (two_v, positive) = optic_angle(principal("iolite", 589.3));
+    assert!(
+        positive && (65.0..=104.0).contains(&two_v) && (two_v - 83.9).abs() < 0.2,
+        "iolite 2V {two_v}"
+    );
 }
 
 /// n_α ≤ n_β ≤ n_γ at every nanometre of 380–780 nm: no crossing that
@@ -187,7 +203,7 @@ fn biaxial_gem_indices_stay_ordered_across_the_visible() {
 
 /// The dispersion n(430.8 nm) − n(686.7 nm) of each principal index: the
 /// published B–G value for the gemmological Cauchy laws (topaz 0.014,
-/// peridot 0.020, tanzanite 0.012: exact by construction), and for the
+/// peridot 0.020, tanzanite 0.012, iolite 0.017: exact by construction), and for the
 /// chrysoberyl fit against GIA's 0.015: the fit gives 0.0168, 0.0171 and
 /// 0.0175 (tolerance 0.003, docs/materials.md).
 #[test]
@@ -196,6 +212,7 @@ fn biaxial_gem_dispersion_matches_published_values() {
         ("topaz", 0.014, 1e-9),
         ("peridot", 0.020, 1e-9),
         ("tanzanite", 0.012, 1e-9),
+        ("iolite", 0.017, 1e-9),
         ("chrysoberyl", 0.015, 3e-3),
     ] {
         let (blue, red) = (principal(name, 430.8), principal(name, 686.7));
