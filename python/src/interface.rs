@@ -42,8 +42,9 @@ pub fn interface<'py>(
     wavelength: f64,
 ) -> PyResult<Bound<'py, PyAny>> {
     let args = InterfaceArgs {
-        from: from_,
-        to,
+        from: Some(from_),
+        to: Some(to),
+        describe: None,
         axis: match axis {
             Some(a) => vector("axis", a)?,
             None => "0,0,1".into(),
@@ -58,8 +59,8 @@ pub fn interface<'py>(
             Some(n) => vector("normal", n)?,
             None => "0,0,1".into(),
         },
-        incident: vector("incident", incident)?,
-        mode,
+        incident: Some(vector("incident", incident)?),
+        mode: Some(mode),
         wavelength,
         json: true,
     };

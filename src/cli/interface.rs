@@ -28,11 +28,17 @@ pub struct InterfaceArgs {
     /// Medium of the incident wave: a built-in name (e.g. air, n-bk7,
     /// calcite, quartz, sapphire, diamond, topaz, peridot), `iso:N`,
     /// `uniaxial:NO:NE` or `biaxial:NX:NY:NZ`.
-    #[arg(long, value_name = "MEDIUM")]
-    pub from: String,
+    #[arg(long, value_name = "MEDIUM", required_unless_present = "describe")]
+    pub from: Option<String>,
     /// Medium on the other side of the interface (same forms as --from).
-    #[arg(long, value_name = "MEDIUM")]
-    pub to: String,
+    #[arg(long, value_name = "MEDIUM", required_unless_present = "describe")]
+    pub to: Option<String>,
+    /// Describe one medium instead of solving an interface: its indices at
+    /// --wavelength, its axes (oriented by --axis and --axis-x) and, for a
+    /// biaxial crystal, the angle 2V between its optic axes and their
+    /// directions.
+    #[arg(long, value_name = "MEDIUM", conflicts_with_all = ["from", "to", "incident", "mode", "normal", "json"])]
+    pub describe: Option<String>,
     /// Optic axis of whichever side is uniaxial, or crystal z of a biaxial
     /// side, `x,y,z`.
     #[arg(
@@ -56,12 +62,21 @@ pub struct InterfaceArgs {
     pub normal: String,
     /// Direction of the incident wave vector, `x,y,z`, pointing toward the
     /// interface.
-    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
-    pub incident: String,
+    #[arg(
+        long,
+        value_name = "X,Y,Z",
+        allow_hyphen_values = true,
+        required_unless_present = "describe"
+    )]
+    pub incident: Option<String>,
     /// Mode of the incident wave: s or p (isotropic medium), o or e
     /// (uniaxial crystal), fast or slow (biaxial crystal).
-    #[arg(long, value_name = "s|p|o|e|fast|slow")]
-    pub mode: String,
+    #[arg(
+        long,
+        value_name = "s|p|o|e|fast|slow",
+        required_unless_present = "describe"
+    )]
+    pub mode: Option<String>,
     /// Vacuum wavelength in nm.
     #[arg(
         long,
@@ -119,6 +134,31 @@ fn describe(name: &str, m: &Medium) -> String {
     }
 }
 
+/// `--describe MEDIUM`: the medium at --wavelength, oriented by --axis and
+/// --axis-x, and for a biaxial crystal its optic axes (the wave normals of
+/// equal index, `optics::anisotropic::optic_axes`).
+fn describe_medium(args: &InterfaceArgs, name: &str) -> Result<String, CliError> {
+    let axis = parse_vector(&args.axis, "axis")?;
+    let lambda = wavelength(args)?;
+    let m = Material::parse(name).map_err(|e| CliError::input(format!("--describe: {e}")))?;
+    let m = orienter(args, axis)?(m, "describe")?;
+    let medium = m.medium(lambda, axis);
+    check_indices(m.name(), &medium, lambda)?;
+    let mut text = format!("{} at {lambda} nm", describe(name, &medium));
+    if let Some(axes) = crate::optics::anisotropic::optic_axes(&medium) {
+        for (i, a) in axes.iter().enumerate() {
+            text += &format!(
+                "\noptic axis {}: ({:.5}, {:.5}, {:.5})",
+                i + 1,
+                a.x,
+                a.y,
+                a.z
+            );
+        }
+    }
+    Ok(text)
+}
+
 fn check_indices(name: &str, m: &Medium, lambda: f64) -> Result<(), CliError> {
     let ok = |n: f64| n.is_finite() && n > 0.0;
     let good = match *m {
@@ -138,17 +178,58 @@ fn check_indices(name: &str, m: &Medium, lambda: f64) -> Result<(), CliError> {
 /// Build the interface and solve it; every user error becomes
 /// an input error (exit status 2).
 pub fn solve(args: &InterfaceArgs) -> Result<(Interface, Scattering), CliError> {
+    let given = |v: &Option<String>, flag: &str| {
+        v.clone()
+            .ok_or_else(|| CliError::input(format!("--{flag} is needed to solve an interface")))
+    };
+    let (from_name, to_name) = (given(&args.from, "from")?, given(&args.to, "to")?);
+    let (incident_text, mode_text) = (
+        given(&args.incident, "incident")?,
+        given(&args.mode, "mode")?,
+    );
     let normal = parse_vector(&args.normal, "normal")?;
-    let incident = parse_vector(&args.incident, "incident")?;
+    let incident = parse_vector(&incident_text, "incident")?;
     let axis = parse_vector(&args.axis, "axis")?;
+    let lambda = wavelength(args)?;
+    let from = Material::parse(&from_name).map_err(|e| CliError::input(format!("--from: {e}")))?;
+    let to = Material::parse(&to_name).map_err(|e| CliError::input(format!("--to: {e}")))?;
+    let orient = orienter(args, axis)?;
+    let from = orient(from, "from")?;
+    let to = orient(to, "to")?;
+    let m_from = from.medium(lambda, axis);
+    let m_to = to.medium(lambda, axis);
+    check_indices(from.name(), &m_from, lambda)?;
+    check_indices(to.name(), &m_to, lambda)?;
+    let mode = Mode::parse(&mode_text).ok_or_else(|| {
+        CliError::input(format!(
+            "--mode `{mode_text}`: expected s, p, o or e, or fast or slow (biaxial)"
+        ))
+    })?;
+    solve_parsed(
+        (m_from, m_to),
+        (from.name(), mode),
+        (normal, incident, &incident_text),
+    )
+}
+
+/// --wavelength, checked.
+fn wavelength(args: &InterfaceArgs) -> Result<f64, CliError> {
     let lambda = args.wavelength;
     if !(lambda.is_finite() && lambda > 0.0) {
         return Err(CliError::input(format!(
             "--wavelength {lambda} must be a positive number of nanometres"
         )));
     }
-    let from = Material::parse(&args.from).map_err(|e| CliError::input(format!("--from: {e}")))?;
-    let to = Material::parse(&args.to).map_err(|e| CliError::input(format!("--to: {e}")))?;
+    Ok(lambda)
+}
+
+/// Orients a biaxial material by --axis (crystal z) and --axis-x; other
+/// materials pass unchanged.
+#[allow(clippy::type_complexity)]
+fn orienter(
+    args: &InterfaceArgs,
+    axis: DVec3,
+) -> Result<impl Fn(Material, &str) -> Result<Material, CliError> + '_, CliError> {
     // No --axis-x: the deterministic default orthogonal to --axis
     // (optics::medium::default_crystal_x); a given one parallel to --axis
     // is refused.
@@ -156,34 +237,34 @@ pub fn solve(args: &InterfaceArgs) -> Result<(Interface, Scattering), CliError> 
         Some(text) => Some(parse_vector(text, "axis-x")?),
         None => None,
     };
-    let orient = |m: Material, flag: &str| -> Result<Material, CliError> {
-        if !m.is_biaxial() {
-            return Ok(m);
-        }
-        let name = m.name().to_string();
-        let x = axis_x.unwrap_or_else(|| default_crystal_x(axis));
-        m.with_crystal_axes(axis, x)
-            .map_err(|e| match &args.axis_x {
-                Some(given) => CliError::input(format!(
+    Ok(
+        move |m: Material, flag: &str| -> Result<Material, CliError> {
+            if !m.is_biaxial() {
+                return Ok(m);
+            }
+            let name = m.name().to_string();
+            let x = axis_x.unwrap_or_else(|| default_crystal_x(axis));
+            m.with_crystal_axes(axis, x)
+                .map_err(|e| match &args.axis_x {
+                    Some(given) => CliError::input(format!(
                 "--{flag} {}: --axis-x `{given}` is parallel to --axis `{}`: a biaxial crystal's x \
                  axis needs a part normal to its z axis",
                 name, args.axis
             )),
-                None => CliError::input(format!("--{flag} {name}: --axis `{}`: {e}", args.axis)),
-            })
-    };
-    let from = orient(from, "from")?;
-    let to = orient(to, "to")?;
-    let m_from = from.medium(lambda, axis);
-    let m_to = to.medium(lambda, axis);
-    check_indices(from.name(), &m_from, lambda)?;
-    check_indices(to.name(), &m_to, lambda)?;
-    let mode = Mode::parse(&args.mode).ok_or_else(|| {
-        CliError::input(format!(
-            "--mode `{}`: expected s, p, o or e, or fast or slow (biaxial)",
-            args.mode
-        ))
-    })?;
+                    None => {
+                        CliError::input(format!("--{flag} {name}: --axis `{}`: {e}", args.axis))
+                    }
+                })
+        },
+    )
+}
+
+/// The interface solve once every flag is parsed.
+fn solve_parsed(
+    (m_from, m_to): (Medium, Medium),
+    (from_name, mode): (&str, Mode),
+    (normal, incident, incident_text): (DVec3, DVec3, &str),
+) -> Result<(Interface, Scattering), CliError> {
     if !mode.exists_in(&m_from) {
         let has = if m_from.is_isotropic() {
             "it is isotropic: use --mode s or p"
@@ -193,9 +274,8 @@ pub fn solve(args: &InterfaceArgs) -> Result<(Interface, Scattering), CliError> 
             "it is a uniaxial crystal: use --mode o or e"
         };
         return Err(CliError::input(format!(
-            "--mode {}: the --from medium {} has no such wave; {has}",
+            "--mode {}: the --from medium {from_name} has no such wave; {has}",
             mode.name(),
-            from.name()
         )));
     }
     let iface = Interface::new(normal, m_from, m_to)?;
@@ -203,7 +283,7 @@ pub fn solve(args: &InterfaceArgs) -> Result<(Interface, Scattering), CliError> 
         return Err(CliError::input(format!(
             "--incident `{}` points away from the interface: --normal points into the \
              --from medium, so an incident wave needs incident · normal < 0",
-            args.incident
+            incident_text
         )));
     }
     let scattering = iface
@@ -213,7 +293,7 @@ pub fn solve(args: &InterfaceArgs) -> Result<(Interface, Scattering), CliError> 
                 "--incident `{}`: this {} wave's energy flows away from the interface \
                  (near grazing an extraordinary wave's ray and wave vector can point to \
                  opposite sides of the interface)",
-                args.incident,
+                incident_text,
                 mode.name()
             )),
             other => other.into(),
@@ -231,8 +311,11 @@ pub fn solve(args: &InterfaceArgs) -> Result<(Interface, Scattering), CliError> 
 }
 
 pub fn run(args: &InterfaceArgs, out: &mut dyn Write) -> Result<(), CliError> {
-    let (iface, sc) = solve(args)?;
     let io = |e: std::io::Error| CliError::internal(format!("cannot write output: {e}"));
+    if let Some(name) = &args.describe {
+        return writeln!(out, "{}", describe_medium(args, name)?).map_err(io);
+    }
+    let (iface, sc) = solve(args)?;
     let side_name = |s: Side| {
         if s == sc.incident.side {
             "reflected"
@@ -266,13 +349,19 @@ pub fn run(args: &InterfaceArgs, out: &mut dyn Write) -> Result<(), CliError> {
     writeln!(
         out,
         "from {}",
-        describe(&args.from, iface.medium(Side::Plus))
+        describe(
+            args.from.as_deref().unwrap_or_default(),
+            iface.medium(Side::Plus)
+        )
     )
     .map_err(io)?;
     writeln!(
         out,
         "to   {}",
-        describe(&args.to, iface.medium(Side::Minus))
+        describe(
+            args.to.as_deref().unwrap_or_default(),
+            iface.medium(Side::Minus)
+        )
     )
     .map_err(io)?;
     writeln!(

@@ -520,3 +520,103 @@ fn biaxial_gems_by_name_report_2v() {
     let help = String::from_utf8_lossy(&help.stdout);
     assert!(help.contains("topaz"), "{help}");
 }
+
+/// `spar interface --describe MEDIUM` (issue 17): one medium, no interface.
+/// For topaz oriented by --axis and --axis-x it prints the indices, 2V and
+/// the two optic axes; the angle between the printed axes is 2V as the tan
+/// form gives it from the printed indices (tan²V_z = (1/n_α² − 1/n_β²) /
+/// (1/n_β² − 1/n_γ²), computed here), and both lie in the crystal's x–z
+/// plane. Bad input exits 2 naming the flag, with nothing on stdout.
+#[test]
+fn describe_reports_a_medium_its_2v_and_its_optic_axes() {
+    let out = spar(&[
+        "--describe",
+        "topaz",
+        "--axis",
+        "0,1,1",
+        "--axis-x",
+        "1,0,0",
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout).to_string();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        text.contains("topaz (biaxial, n_x = 1.606000, n_y = 1.609000, n_z = 1.616000"),
+        "{text}"
+    );
+    let axes: Vec<DVec3> = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("optic axis "))
+        .map(|l| {
+            let inner = l.split_once('(').unwrap().1.trim_end_matches(')');
+            let v: Vec<f64> = inner
+                .split(',')
+                .map(|x| x.trim().parse().unwrap())
+                .collect();
+            DVec3::new(v[0], v[1], v[2])
+        })
+        .collect();
+    assert_eq!(axes.len(), 2, "{text}");
+    let [a, b, g] = [1.606f64, 1.609, 1.616].map(|n| 1.0 / (n * n));
+    let v_z = ((a - b) / (b - g)).sqrt().atan();
+    let between = axes[0].angle_between(axes[1]);
+    assert!(
+        (between - 2.0 * v_z).abs() < 1e-4,
+        "{between} vs 2V {}",
+        2.0 * v_z
+    );
+    assert!(
+        text.contains(&format!("2V = {:.3}°", 2.0 * v_z.to_degrees())),
+        "{text}"
+    );
+    // Crystal y = z × x = (0, 1, −1)/√2 is normal to both optic axes.
+    let y = DVec3::new(0.0, 1.0, 1.0).cross(DVec3::X).normalize();
+    for ax in &axes {
+        assert!(
+            ax.dot(y).abs() < 1e-4 && (ax.length() - 1.0).abs() < 1e-4,
+            "{ax}"
+        );
+    }
+    // An isotropic or uniaxial medium has no 2V line and no optic axes list.
+    let out = spar(&["--describe", "calcite"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("calcite (uniaxial, n_o = 1.658") && !text.contains("optic axis 1"),
+        "{text}"
+    );
+    for (args, says) in [
+        (
+            &["--describe", "nope"][..],
+            "--describe: unknown material `nope`",
+        ),
+        (
+            &["--describe", "topaz", "--from", "air"][..],
+            "cannot be used with",
+        ),
+        (
+            &["--describe", "topaz", "--wavelength", "-3"][..],
+            "--wavelength",
+        ),
+        (
+            &[
+                "--describe",
+                "topaz",
+                "--axis",
+                "1,0,0",
+                "--axis-x",
+                "2,0,0",
+            ][..],
+            "parallel",
+        ),
+    ] {
+        let out = spar(args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(says), "{args:?}: {err}");
+        assert!(out.stdout.is_empty(), "{args:?}");
+    }
+}
