@@ -115,8 +115,9 @@ pub struct Feeder {
     pub block: Jones,
 }
 
-/// The result of a backward query (fixed size, no allocation).
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// The result of a backward query (fixed size, no allocation). Two
+/// results are equal when their frames, targets and feeders are.
+#[derive(Clone, Copy, Debug)]
 pub struct Feeders {
     /// The tangent frame of the query (its `t` is `w`'s tangential wave
     /// vector, its `s` the `s` of every isotropic basis).
@@ -144,15 +145,22 @@ impl Feeders {
         self.len == 0
     }
 
-    /// No feeders yet, the target to be set by the query.
+    /// No feeders, no frame: a place for [`Interface::feeders_into`] to
+    /// write.
+    pub const EMPTY: Feeders = Feeders {
+        frame: TangentFrame::ZERO,
+        target: BLANK.wave,
+        list: [BLANK; 4],
+        len: 0,
+    };
+
+    /// No feeders yet in `frame`, the target to be set by the query. The
+    /// entries past `len` are left as they were: nothing reads them.
     #[inline]
-    fn new(frame: &TangentFrame) -> Feeders {
-        Feeders {
-            frame: *frame,
-            target: BLANK.wave,
-            list: [BLANK; 4],
-            len: 0,
-        }
+    fn reset(&mut self, frame: &TangentFrame) {
+        self.frame = *frame;
+        self.target = BLANK.wave;
+        self.len = 0;
     }
 
     /// The next entry, counted in (the caller fills it).
@@ -160,6 +168,14 @@ impl Feeders {
     fn next(&mut self) -> &mut Feeder {
         self.len += 1;
         &mut self.list[self.len - 1]
+    }
+}
+
+impl PartialEq for Feeders {
+    fn eq(&self, other: &Feeders) -> bool {
+        self.frame == other.frame
+            && self.target == other.target
+            && self.as_slice() == other.as_slice()
     }
 }
 
@@ -193,6 +209,24 @@ impl Interface {
         kind: WaveKind,
         ray: DVec3,
     ) -> Result<Feeders, InterfaceError> {
+        let mut result = Feeders::EMPTY;
+        self.feeders_into(side, kind, ray, &mut result)?;
+        Ok(result)
+    }
+
+    /// [`Interface::feeders`] written into `result` (whatever it held),
+    /// for a caller that keeps the result where it is used: the renderer,
+    /// whose every node would otherwise copy the near-kilobyte result.
+    /// On error `result` holds no feeders.
+    #[inline]
+    pub fn feeders_into(
+        &self,
+        side: Side,
+        kind: WaveKind,
+        ray: DVec3,
+        result: &mut Feeders,
+    ) -> Result<(), InterfaceError> {
+        result.len = 0;
         let l2 = ray.length_squared();
         if !(l2 > 0.0) || !l2.is_finite() {
             return Err(InterfaceError::BadVector("ray direction"));
@@ -208,16 +242,15 @@ impl Interface {
             return Err(InterfaceError::NotOutgoing);
         }
         let k = k_from_ray(medium, kind, ray);
-        if self.has_biaxial() {
-            if !k.is_finite() {
-                return Err(InterfaceError::BadVector("tangential wave vector"));
-            }
-            let mut result = Feeders::new(&self.frame(k));
-            let frame = result.frame;
-            self.general_any(&frame, side, kind, Some(k), &mut result)?;
-            return Ok(result);
+        if !k.is_finite() {
+            return Err(InterfaceError::BadVector("tangential wave vector"));
         }
-        self.feeders_tangential(side, kind, k)
+        result.reset(&self.frame(k));
+        let frame = result.frame;
+        if self.has_biaxial() {
+            return self.general_any(&frame, side, kind, Some(k), result);
+        }
+        self.fill(&frame, side, kind, result)
     }
 
     /// The backward query for the outgoing wave of `kind` on `side` with
@@ -255,7 +288,8 @@ impl Interface {
         // The result (nearly a kilobyte) is filled in place by a worker
         // that is not inlined, while this wrapper is: the caller's own
         // variable can then be the one filled, without a copy.
-        let mut result = Feeders::new(frame);
+        let mut result = Feeders::EMPTY;
+        result.reset(frame);
         self.fill(frame, side, kind, &mut result)?;
         Ok(result)
     }

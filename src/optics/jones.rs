@@ -117,16 +117,28 @@ impl Jones {
     }
 
     /// The matrix product `self · rhs` (`self.cols` must equal `rhs.rows`).
+    #[inline]
     pub fn product(&self, rhs: &Jones) -> Jones {
         assert_eq!(
             self.cols, rhs.rows,
             "Jones product of a {}×{} and a {}×{} block",
             self.rows, self.cols, rhs.rows, rhs.cols
         );
+        // Unrolled (the hot path of the physical model): each used entry
+        // is the sum over k < self.cols from a zero start, in the order a
+        // loop would take; unused entries stay zero.
+        let (a, b) = (&self.m, &rhs.m);
+        let two = self.cols == 2;
         let mut out = Jones::zero(self.rows, rhs.cols);
-        for r in 0..self.rows {
-            for c in 0..rhs.cols {
-                out.m[r][c] = (0..self.cols).map(|k| self.m[r][k] * rhs.m[k][c]).sum();
+        for r in 0..2 {
+            for c in 0..2 {
+                if r < self.rows && c < rhs.cols {
+                    let mut v = ZERO + a[r][0] * b[0][c];
+                    if two {
+                        v += a[r][1] * b[1][c];
+                    }
+                    out.m[r][c] = v;
+                }
             }
         }
         out

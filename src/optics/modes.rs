@@ -258,6 +258,15 @@ pub struct TangentFrame {
 }
 
 impl TangentFrame {
+    /// All zero: no frame (a placeholder to be overwritten).
+    pub const ZERO: TangentFrame = TangentFrame {
+        normal: DVec3::ZERO,
+        t: DVec3::ZERO,
+        tt: 0.0,
+        s: DVec3::ZERO,
+        u: DVec3::ZERO,
+    };
+
     /// The frame for unit normal `normal` and tangential component `t` (any
     /// normal component of `t` is removed).
     #[inline]

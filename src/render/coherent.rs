@@ -30,9 +30,10 @@
 
 use super::absorb;
 use super::integrator::{
-    feeder_side, max_gain, Node, Region, Stats, Traced, Tracer, WavelengthMedia,
+    feeder_side, max_gain, Meeting, Region, Stats, Traced, Tracer, WavelengthMedia,
 };
 use super::sampling::SampleKey;
+use crate::optics::backward::Feeders;
 use crate::optics::modes::WaveKind;
 use crate::optics::{Coherence, Jones};
 use glam::DVec3;
@@ -346,13 +347,23 @@ impl Tracer<'_> {
             kept = (entry / n) as u32;
             throughput_here *= self.kept_at_most(object, weights, w.batch);
         }
-        let Some(Node {
+        let mut feeders = Feeders::EMPTY;
+        let Some(Meeting {
             ray,
             hit,
             normal,
             other,
-            feeders,
-        }) = self.node(ray, hit, p.region, p.kind, p.dir, p.depth, media, stats)
+        }) = self.node_into(
+            ray,
+            hit,
+            p.region,
+            p.kind,
+            p.dir,
+            p.depth,
+            media,
+            stats,
+            &mut feeders,
+        )
         else {
             return;
         };

@@ -339,6 +339,15 @@ pub(super) struct Node {
     pub feeders: Feeders,
 }
 
+/// A [`Node`] without its feeders: what [`Tracer::node_into`] returns
+/// while it writes the feeders where the caller keeps them.
+pub(super) struct Meeting {
+    pub ray: Ray,
+    pub hit: Hit,
+    pub normal: DVec3,
+    pub other: Region,
+}
+
 /// The feeders a node follows, each with the weight of its contribution
 /// (`.1` of them used).
 pub(super) type Chosen = ([(usize, f64); 4], usize);
@@ -723,6 +732,48 @@ impl<'a> Tracer<'a> {
         media: &WavelengthMedia,
         stats: &mut Stats,
     ) -> Option<Node> {
+        let mut feeders = Feeders::EMPTY;
+        let Meeting {
+            ray,
+            hit,
+            normal,
+            other,
+        } = self.node_into(
+            ray,
+            hit,
+            region,
+            kind,
+            dir,
+            depth,
+            media,
+            stats,
+            &mut feeders,
+        )?;
+        Some(Node {
+            ray,
+            hit,
+            normal,
+            other,
+            feeders,
+        })
+    }
+
+    /// [`Tracer::node`] with the feeders written into `feeders` (the
+    /// renderer's hot path: a node's feeders are nearly a kilobyte, and
+    /// returning them would copy them once or twice a ray).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn node_into(
+        &self,
+        ray: Option<Ray>,
+        hit: Option<Hit>,
+        region: Region,
+        kind: WaveKind,
+        dir: DVec3,
+        depth: u32,
+        media: &WavelengthMedia,
+        stats: &mut Stats,
+        feeders: &mut Feeders,
+    ) -> Option<Meeting> {
         let Some(hit) = hit else {
             // Inside a closed mesh every ray must hit it again.
             stats.lose(|c| &mut c.escaped);
@@ -766,16 +817,18 @@ impl<'a> Tracer<'a> {
             stats.lose(|c| &mut c.solver);
             return None;
         };
-        let Ok(feeders): Result<Feeders, _> = iface.feeders(Side::Plus, kind, leaving) else {
+        if iface
+            .feeders_into(Side::Plus, kind, leaving, feeders)
+            .is_err()
+        {
             stats.lose(|c| &mut c.solver);
             return None;
-        };
-        Some(Node {
+        }
+        Some(Meeting {
             ray,
             hit,
             normal,
             other,
-            feeders,
         })
     }
 
@@ -966,13 +1019,23 @@ impl<'a> Tracer<'a> {
             }
             None => q,
         };
-        let Some(Node {
+        let mut feeders = Feeders::EMPTY;
+        let Some(Meeting {
             ray,
             hit,
             normal,
             other,
-            feeders,
-        }) = self.node(ray, hit, q.region, q.kind, q.dir, q.depth, &batch[0], stats)
+        }) = self.node_into(
+            ray,
+            hit,
+            q.region,
+            q.kind,
+            q.dir,
+            q.depth,
+            &batch[0],
+            stats,
+            &mut feeders,
+        )
         else {
             return zero(out);
         };
