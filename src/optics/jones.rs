@@ -130,14 +130,13 @@ impl Jones {
         let (a, b) = (&self.m, &rhs.m);
         let two = self.cols == 2;
         let mut out = Jones::zero(self.rows, rhs.cols);
-        for r in 0..2 {
-            for c in 0..2 {
+        for (r, (row, a_r)) in out.m.iter_mut().zip(a).enumerate() {
+            for (c, v) in row.iter_mut().enumerate() {
                 if r < self.rows && c < rhs.cols {
-                    let mut v = ZERO + a[r][0] * b[0][c];
+                    *v = ZERO + a_r[0] * b[0][c];
                     if two {
-                        v += a[r][1] * b[1][c];
+                        *v += a_r[1] * b[1][c];
                     }
-                    out.m[r][c] = v;
                 }
             }
         }

@@ -337,7 +337,7 @@ fn jones_product_is_the_plain_sum_bit_for_bit() {
                             let want = if r < rows && c < cols {
                                 let mut sum = Complex64::new(0.0, 0.0);
                                 for k in 0..inner {
-                                    sum = sum + a.m[r][k] * b.m[k][c];
+                                    sum += a.m[r][k] * b.m[k][c];
                                 }
                                 sum
                             } else {
