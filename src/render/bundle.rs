@@ -29,6 +29,13 @@
 //! each mode an intensity, so where no mode changes (a plate seen once)
 //! the bundled image equals the exact tree's. The physical model's o/e
 //! interference needs the exact tree; the settings refuse the combination.
+//!
+//! Russian roulette (`Tracer::roulette`) decides wherever a bundle
+//! follows a subtree, as the exact tree does: a new bundle once as a whole,
+//! on its stronger member's share (one random number, one 1/p on both
+//! members' light and in `Bundle::weight`); a member again on its own
+//! once the bundle splits; every feeder traced as an exact query as the
+//! exact tree's feeders are (docs/physics.md §10.2).
 
 use super::absorb::depth as absorb_depth;
 use super::integrator::{feeder_side, max_gain, Query, Region, Stats, Traced, Tracer};
@@ -67,19 +74,21 @@ struct Bundle {
     /// (each keeps its angle along every later segment), summed along the
     /// path.
     pub drift: f64,
-    /// The sampling weights along the path (as [`Query::weight`]).
+    /// The sampling weights along the path (as [`Query::weight`]), the
+    /// 1/p of this bundle's own roulette decision included: what roulette
+    /// compares its members' throughputs with.
     pub weight: f64,
 }
 
 impl Bundle {
     /// The exact query of feeder `f` of this bundle's node, from `origin`
-    /// into `region`.
+    /// into `region`, that survived roulette with weight `survived`.
     fn query(
         &self,
         (origin, anchor): (DVec3, DVec3),
         f: &Feeder,
         region: Region,
-        throughput: f64,
+        (throughput, survived): (f64, f64),
         path: u64,
     ) -> Query {
         Query {
@@ -92,7 +101,7 @@ impl Bundle {
             throughput,
             path,
             drift: self.drift,
-            weight: self.weight,
+            weight: self.weight * survived,
         }
     }
 }
@@ -145,6 +154,27 @@ fn dephased(c: &Coherence) -> Coherence {
 }
 
 impl Tracer<'_> {
+    /// Russian roulette ([`Tracer::roulette`]) for a subtree a bundle
+    /// would follow: `throughput` its path gain (a bundle's: the larger of
+    /// its members'), `weight` the sampling weights above it, decided at a
+    /// node at `depth` on random stream `stream` (the subtree's path, as
+    /// the exact tree's feeders). The factor to weight its light by, or
+    /// `None` (counted) when it is dropped.
+    fn roulette_subtree(
+        &self,
+        (throughput, weight): (f64, f64),
+        depth: u32,
+        stream: u64,
+        key: &SampleKey,
+        stats: &mut Stats,
+    ) -> Option<f64> {
+        let survived = self.roulette(throughput * weight, depth, stream, key);
+        if survived.is_none() {
+            stats.rouletted += 1;
+        }
+        survived
+    }
+
     /// At a node of the exact query `q` (at `point` on object `object`,
     /// `normal` into `q`'s side, `other` across), traces each side's o and
     /// e feeders in `list` (with `gains`) as one bundle and adds their
@@ -176,6 +206,16 @@ impl Tracer<'_> {
                 stats.pruned += 1;
                 continue;
             }
+            // One roulette decision for the bundle as a whole, on its
+            // stronger member (the weaker one is decided again on its own
+            // if the bundle splits).
+            let path = q.path.wrapping_mul(4).wrapping_add(io as u64 + 1);
+            let strongest = throughput[0].max(throughput[1]);
+            let Some(survived) =
+                self.roulette_subtree((strongest, q.weight), q.depth, path, key, stats)
+            else {
+                continue;
+            };
             let (fo, fe) = (&list[io], &list[ie]);
             let (region, offset) = feeder_side(side, q.region, other, normal);
             let Region::Inside(crystal) = region else {
@@ -193,15 +233,15 @@ impl Tracer<'_> {
                 object: crystal,
                 depth: q.depth + 1,
                 throughput,
-                path: q.path.wrapping_mul(4).wrapping_add(io as u64 + 1),
+                path,
                 drift: q.drift,
-                weight: q.weight,
+                weight: q.weight * survived,
             };
             let (child_out, deeper) = scratch.split_at_mut(n);
             self.bundle_radiance(&b, batch, key, child_out, deeper, stats);
             let block = pair_block(&fo.block, &fe.block);
             for (o, j) in out.iter_mut().zip(child_out.iter()) {
-                *o += j.transform(&block);
+                *o += j.transform(&block) * survived;
             }
         }
         bundled
@@ -353,28 +393,38 @@ impl Tracer<'_> {
                 // A riding wave also starts at the other member's point: at
                 // most TOL pixel footprints away.
                 let close = (po - pe).length() <= allowed;
-                if close && (drift == 0.0 || drift <= self.bundle_tolerance() * self.pixel_angle())
-                {
-                    let member = |node: &Node, f: &Feeder| Member {
-                        origin: node.ray.at(node.hit.t) + self.epsilon(node.hit.geom) * node.normal,
-                        dir: -f.wave.ray,
-                        kind: f.wave.kind,
-                        anchor: node.ray.at(node.hit.t),
-                    };
-                    let child = Bundle {
-                        members: [member(&node_o, fo), member(&node_e, fe)],
-                        object: b.object,
-                        depth: b.depth + 1,
-                        throughput,
-                        path: b.path.wrapping_mul(4).wrapping_add(1),
-                        drift,
-                        weight: b.weight,
-                    };
-                    let (child_out, deeper) = scratch.split_at_mut(n);
-                    self.bundle_radiance(&child, batch, key, child_out, deeper, stats);
+                let together = close
+                    && (drift == 0.0 || drift <= self.bundle_tolerance() * self.pixel_angle());
+                // One roulette decision for the reflected bundle as a whole,
+                // on its stronger mode (dropped: nothing reflected).
+                let path = b.path.wrapping_mul(4).wrapping_add(1);
+                let strongest = throughput[0].max(throughput[1]);
+                if together {
                     merged = true;
-                    for (o, c) in out.iter_mut().zip(child_out.iter()) {
-                        *o += dephased(&c.transform(&r));
+                    if let Some(survived) =
+                        self.roulette_subtree((strongest, b.weight), b.depth, path, key, stats)
+                    {
+                        let member = |node: &Node, f: &Feeder| Member {
+                            origin: node.ray.at(node.hit.t)
+                                + self.epsilon(node.hit.geom) * node.normal,
+                            dir: -f.wave.ray,
+                            kind: f.wave.kind,
+                            anchor: node.ray.at(node.hit.t),
+                        };
+                        let child = Bundle {
+                            members: [member(&node_o, fo), member(&node_e, fe)],
+                            object: b.object,
+                            depth: b.depth + 1,
+                            throughput,
+                            path,
+                            drift,
+                            weight: b.weight * survived,
+                        };
+                        let (child_out, deeper) = scratch.split_at_mut(n);
+                        self.bundle_radiance(&child, batch, key, child_out, deeper, stats);
+                        for (o, c) in out.iter_mut().zip(child_out.iter()) {
+                            *o += dephased(&c.transform(&r)) * survived;
+                        }
                     }
                 }
             }
@@ -402,8 +452,13 @@ impl Tracer<'_> {
                 let anchor = node.ray.at(node.hit.t);
                 let origin = anchor + self.epsilon(node.hit.geom) * offset;
                 let path = b.path.wrapping_mul(4).wrapping_add(2 + i as u64);
-                let q = b.query((origin, anchor), f, region, throughput, path);
-                self.add_exact(&q, f, a, batch, key, out, scratch, stats);
+                let Some(survived) =
+                    self.roulette_subtree((throughput, b.weight), b.depth, path, key, stats)
+                else {
+                    continue;
+                };
+                let q = b.query((origin, anchor), f, region, (throughput, survived), path);
+                self.add_exact(&q, f, (a, survived), batch, key, out, scratch, stats);
             }
         }
         // Beer–Lambert along each member's segment: its mode's amplitude
@@ -449,6 +504,13 @@ impl Tracer<'_> {
                 stats.pruned += 1;
                 return;
             }
+            let path = b.path.wrapping_mul(8).wrapping_add(5 + a as u64);
+            let strongest = throughput[0].max(throughput[1]);
+            let Some(survived) =
+                self.roulette_subtree((strongest, b.weight), b.depth, path, key, stats)
+            else {
+                return;
+            };
             let member = |f: &Feeder| Member {
                 origin,
                 dir: -f.wave.ray,
@@ -460,14 +522,14 @@ impl Tracer<'_> {
                 object: b.object,
                 depth: b.depth + 1,
                 throughput,
-                path: b.path.wrapping_mul(8).wrapping_add(5 + a as u64),
+                path,
                 drift: b.drift,
-                weight: b.weight,
+                weight: b.weight * survived,
             };
             self.bundle_radiance(&child, batch, key, child_out, deeper, stats);
             let block = pair_block(&fo.block, &fe.block);
             for (o, c) in out.iter_mut().zip(child_out.iter()) {
-                *o += on_mode(a, c.transform(&block).jxx());
+                *o += on_mode(a, c.transform(&block).jxx() * survived);
             }
             return;
         }
@@ -481,25 +543,30 @@ impl Tracer<'_> {
                 continue;
             }
             let path = b.path.wrapping_mul(8).wrapping_add(i as u64);
+            let Some(survived) =
+                self.roulette_subtree((throughput, b.weight), b.depth, path, key, stats)
+            else {
+                continue;
+            };
             let q = b.query(
                 (origin, anchor),
                 f,
                 Region::Inside(b.object),
-                throughput,
+                (throughput, survived),
                 path,
             );
-            self.add_exact(&q, f, a, batch, key, out, scratch, stats);
+            self.add_exact(&q, f, (a, survived), batch, key, out, scratch, stats);
         }
     }
 
     /// Adds to mode `a` of `out` the light feeder `f` brings along the
-    /// exact query `q`.
+    /// exact query `q`, times `survived` (its roulette weight).
     #[allow(clippy::too_many_arguments)]
     fn add_exact(
         &self,
         q: &Query,
         f: &Feeder,
-        a: usize,
+        (a, survived): (usize, f64),
         batch: &[WavelengthMedia],
         key: &SampleKey,
         out: &mut [Coherence],
@@ -509,7 +576,7 @@ impl Tracer<'_> {
         let (child_out, deeper) = scratch.split_at_mut(out.len());
         self.radiance(q, &f.wave.basis, batch, key, child_out, deeper, stats);
         for (o, j) in out.iter_mut().zip(child_out.iter()) {
-            *o += on_mode(a, j.transform(&f.block).jxx());
+            *o += on_mode(a, j.transform(&f.block).jxx() * survived);
         }
     }
 
@@ -536,6 +603,17 @@ impl Tracer<'_> {
                 stats.pruned += 1;
                 continue;
             }
+            // The bundle's roulette decision was on its stronger member;
+            // on its own each member is decided again on its own
+            // throughput, with the bundle's 1/p in `b.weight`: over both
+            // decisions a member survives with min(1, its own expected
+            // share / threshold), as in the exact tree.
+            let path = b.path.wrapping_mul(2).wrapping_add(a as u64);
+            let Some(survived) =
+                self.roulette_subtree((b.throughput[a], b.weight), b.depth, path, key, stats)
+            else {
+                continue;
+            };
             let q = Query {
                 origin: m.origin,
                 dir: m.dir,
@@ -543,10 +621,10 @@ impl Tracer<'_> {
                 kind: m.kind,
                 depth: b.depth,
                 throughput: b.throughput[a],
-                path: b.path.wrapping_mul(2).wrapping_add(a as u64),
+                path,
                 drift: b.drift,
                 anchor: m.anchor,
-                weight: b.weight,
+                weight: b.weight * survived,
             };
             let (member_out, deeper) = scratch.split_at_mut(n);
             // A member's own wave has one mode: its basis is unused.
@@ -558,7 +636,7 @@ impl Tracer<'_> {
                 None => self.radiance(&q, basis, batch, key, member_out, deeper, stats),
             }
             for (o, j) in out.iter_mut().zip(member_out.iter()) {
-                *o += on_mode(a, j.jxx());
+                *o += on_mode(a, j.jxx() * survived);
             }
         }
     }
