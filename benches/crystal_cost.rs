@@ -27,7 +27,9 @@
 //! (incoherent, as benches/bundle.rs and scenes/quartz-brilliant.toml; or
 //! physical), SPAR_BENCH_DISPERSION (true, or false as `--quality draft`
 //! has it), SPAR_BENCH_ROULETTE (comma-separated thresholds, default
-//! 0.01,0.03,0.1).
+//! 0.01,0.03,0.1), SPAR_BENCH_BUNDLE (o/e bundle tolerances in pixels
+//! for the crystals, each with every roulette threshold; incoherent model
+//! only; default 3, 0 for none).
 
 use spar::accel::AccelKind;
 use spar::render::film::Film;
@@ -44,6 +46,7 @@ use support::{cpu_seconds, median};
 struct Row {
     medium: &'static str,
     roulette: f64,
+    bundle: f64,
     seed: u64,
 }
 
@@ -69,6 +72,7 @@ prune = 1e-4
 coherence = "{coherence}"
 dispersion = {dispersion}
 roulette = {roulette}
+bundle = {bundle}
 seed = {seed}
 [[object]]
 cut = {{ name = "round-brilliant" }}
@@ -82,6 +86,7 @@ texture = "builtin:checker"
 "#,
         medium = row.medium,
         roulette = row.roulette,
+        bundle = row.bundle,
         seed = row.seed
     )
 }
@@ -126,12 +131,19 @@ fn main() {
         .split(',')
         .filter_map(|s| s.trim().parse().ok())
         .collect();
+    let bundles: Vec<f64> = std::env::var("SPAR_BENCH_BUNDLE")
+        .unwrap_or_else(|_| "3".into())
+        .split(',')
+        .filter_map(|s| s.trim().parse().ok())
+        .filter(|b: &f64| *b > 0.0)
+        .collect();
     let mut rows = Vec::new();
     for medium in ["n-bk7", "quartz", "calcite"] {
         for seed in [0, 1] {
             rows.push(Row {
                 medium,
                 roulette: 0.0,
+                bundle: 0.0,
                 seed,
             });
         }
@@ -139,8 +151,21 @@ fn main() {
             rows.push(Row {
                 medium,
                 roulette,
+                bundle: 0.0,
                 seed: 0,
             });
+        }
+        if medium != "n-bk7" && coherence == "incoherent" {
+            for &bundle in &bundles {
+                for &roulette in &thresholds {
+                    rows.push(Row {
+                        medium,
+                        roulette,
+                        bundle,
+                        seed: 0,
+                    });
+                }
+            }
         }
     }
     let base = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -181,7 +206,9 @@ fn main() {
     let at = 10; // 580 nm of 21 over 380–780 nm
     let exact_of = |medium: &str, seed: u64| {
         rows.iter()
-            .position(|r| r.medium == medium && r.roulette == 0.0 && r.seed == seed)
+            .position(|r| {
+                r.medium == medium && r.roulette == 0.0 && r.bundle == 0.0 && r.seed == seed
+            })
             .expect("exact rows for each stone")
     };
     // Cost at equal error and the row's own error, per row.
@@ -195,13 +222,27 @@ fn main() {
         let e0 = exact_of(row.medium, 0);
         let e1 = exact_of(row.medium, 1);
         let s = errors(film(e0), film(e1), at).map(|x| x / 2f64.sqrt());
-        let e = if row.roulette > 0.0 {
+        let e = if i != e0 {
             errors(film(e0), film(i), at)
         } else {
             [0.0, 0.0]
         };
+        // Roulette's error is noise, which samples average away: 1 + e²/σ²
+        // samples. A bundle's is mostly bias, which they do not: counted
+        // as all bias (the larger count), σ²/(σ² − e²), none if e ≥ σ.
         let factor = (0..2)
-            .map(|m| 1.0 + (e[m] / s[m]).powi(2))
+            .map(|m| {
+                let r = (e[m] / s[m]).powi(2);
+                if row.bundle > 0.0 {
+                    if r < 1.0 {
+                        1.0 / (1.0 - r)
+                    } else {
+                        f64::INFINITY
+                    }
+                } else {
+                    1.0 + r
+                }
+            })
             .fold(1.0, f64::max);
         equal_cost[i] = median(cpu[i].clone()) * factor;
         own[i] = e;
@@ -220,10 +261,10 @@ fn main() {
         rayon::current_num_threads()
     );
     println!(
-        "| stone | roulette | CPU s | rays | σ S0 | σ pol | own S0 | own pol | samples for equal error | \
+        "| stone | roulette | bundle | CPU s | rays | σ S0 | σ pol | own S0 | own pol | samples for equal error | \
          CPU s at equal error | ÷ N-BK7 |"
     );
-    println!("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    println!("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for (i, row) in rows.iter().enumerate() {
         if row.seed != 0 {
             continue;
@@ -239,9 +280,10 @@ fn main() {
             "n/a".into()
         };
         println!(
-            "| {} | {} | {c:.2} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {factor} | {:.2} | {:.2} |",
+            "| {} | {} | {} | {c:.2} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {factor} | {:.2} | {:.2} |",
             row.medium,
             row.roulette,
+            row.bundle,
             stats.rays,
             sigma[i][0],
             sigma[i][1],
