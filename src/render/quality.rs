@@ -94,7 +94,7 @@ mod tests {
     fn draft_rolls_the_dice_and_the_other_presets_do_not() {
         let (_, _, draft) = Quality::Draft.settings();
         assert_eq!(draft.strategy.roulette, DRAFT_ROULETTE);
-        assert!(DRAFT_ROULETTE > 0.0 && DRAFT_ROULETTE < 1.0);
+        const { assert!(DRAFT_ROULETTE > 0.0 && DRAFT_ROULETTE < 1.0) };
         let layer = Quality::Draft.layer();
         let set = layer.roulette.expect("draft sets roulette");
         assert_eq!(set.value, DRAFT_ROULETTE);
