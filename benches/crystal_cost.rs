@@ -26,7 +26,8 @@
 //! seed-1 rows are rendered once, for σ), SPAR_BENCH_COHERENCE
 //! (incoherent, as benches/bundle.rs and scenes/quartz-brilliant.toml; or
 //! physical), SPAR_BENCH_DISPERSION (true, or false as `--quality draft`
-//! has it), SPAR_BENCH_ROULETTE (comma-separated thresholds, default
+//! has it), SPAR_BENCH_PRUNE (default 1e-4; `--quality draft` has
+//! 1e-3), SPAR_BENCH_ROULETTE (comma-separated thresholds, default
 //! 0.01,0.03,0.1), SPAR_BENCH_BUNDLE (o/e bundle tolerances in pixels
 //! for the crystals, each with every roulette threshold; incoherent model
 //! only; default 3, 0 for none).
@@ -50,7 +51,7 @@ struct Row {
     seed: u64,
 }
 
-fn scene_text(row: Row, size: u32, coherence: &str, dispersion: &str) -> String {
+fn scene_text(row: Row, size: u32, coherence: &str, dispersion: &str, prune: f64) -> String {
     let axis = if row.medium == "n-bk7" {
         String::new()
     } else {
@@ -68,7 +69,7 @@ samples = 1
 [render]
 wavelengths = 21
 max_depth = 30
-prune = 1e-4
+prune = {prune}
 coherence = "{coherence}"
 dispersion = {dispersion}
 roulette = {roulette}
@@ -126,6 +127,7 @@ fn main() {
     let repeats: usize = env_or("SPAR_BENCH_REPEATS", 1usize).max(1);
     let coherence: String = env_or("SPAR_BENCH_COHERENCE", "incoherent".to_string());
     let dispersion: String = env_or("SPAR_BENCH_DISPERSION", "true".to_string());
+    let prune: f64 = env_or("SPAR_BENCH_PRUNE", 1e-4);
     let thresholds: Vec<f64> = std::env::var("SPAR_BENCH_ROULETTE")
         .unwrap_or_else(|_| "0.01,0.03,0.1".into())
         .split(',')
@@ -173,7 +175,7 @@ fn main() {
         .iter()
         .map(|&row| {
             Scene::parse(
-                &scene_text(row, size, &coherence, &dispersion),
+                &scene_text(row, size, &coherence, &dispersion, prune),
                 "crystal-cost-bench.toml",
                 base,
             )
@@ -256,7 +258,7 @@ fn main() {
         .fold(f64::INFINITY, f64::min);
     println!(
         "backend: {}, {} threads, {size}×{size}, 21 wavelengths, dispersion {dispersion}, \
-         {coherence} model, median of {repeats}",
+         pruning {prune:e}, {coherence} model, median of {repeats}",
         AccelKind::default(),
         rayon::current_num_threads()
     );
