@@ -25,7 +25,7 @@ use std::path::Path;
 use std::time::Instant;
 
 mod support;
-use support::{cpu_seconds, median};
+use support::{cpu_seconds, errors, median};
 
 fn scene_text(medium: &str, size: u32, bundle: f64) -> String {
     let axis = if medium == "n-bk7" {
@@ -59,29 +59,6 @@ radiance = 1.0
 texture = "builtin:checker"
 "#
     )
-}
-
-/// (S0 RMSE over all wavelengths, polarized RMSE at `at`) relative to the
-/// mean S0 of `exact`.
-fn errors(exact: &Film, other: &Film, at: usize) -> (f64, f64) {
-    let n = exact.lambdas.len();
-    let (mut mean, mut e0, mut ep, mut count) = (0.0, 0.0, 0.0, 0.0);
-    let pol = |s: [f64; 4]| (s[1] * s[1] + s[2] * s[2] + s[3] * s[3]).sqrt();
-    for y in 0..exact.height {
-        for x in 0..exact.width {
-            let (mut a0, mut b0) = (0.0, 0.0);
-            for i in 0..n {
-                a0 += exact.stokes(x, y, i)[0];
-                b0 += other.stokes(x, y, i)[0];
-            }
-            mean += a0 / n as f64;
-            e0 += ((a0 - b0) / n as f64).powi(2);
-            ep += (pol(exact.stokes(x, y, at)) - pol(other.stokes(x, y, at))).powi(2);
-            count += 1.0;
-        }
-    }
-    let mean = mean / count;
-    ((e0 / count).sqrt() / mean, (ep / count).sqrt() / mean)
 }
 
 fn main() {
@@ -154,7 +131,7 @@ fn main() {
             .expect("an exact row per stone");
         let (e0, ep) = if *bundle > 0.0 {
             let (ef, _) = results[exact].as_ref().expect("rendered");
-            let (a, b) = errors(ef, film, at);
+            let [a, b] = errors(ef, film, at);
             (format!("{a:.4}"), format!("{b:.4}"))
         } else {
             (String::new(), String::new())

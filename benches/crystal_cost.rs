@@ -41,7 +41,7 @@ use std::path::Path;
 use std::time::Instant;
 
 mod support;
-use support::{cpu_seconds, median};
+use support::{cpu_seconds, errors, median};
 
 #[derive(Clone, Copy)]
 struct Row {
@@ -90,29 +90,6 @@ texture = "builtin:checker"
         bundle = row.bundle,
         seed = row.seed
     )
-}
-
-/// (S0 RMSE over all wavelengths, polarized RMSE at `at`) of `other`
-/// against `exact`, relative to the mean S0 of `exact`.
-fn errors(exact: &Film, other: &Film, at: usize) -> [f64; 2] {
-    let n = exact.lambdas.len();
-    let (mut mean, mut e0, mut ep, mut count) = (0.0, 0.0, 0.0, 0.0);
-    let pol = |s: [f64; 4]| (s[1] * s[1] + s[2] * s[2] + s[3] * s[3]).sqrt();
-    for y in 0..exact.height {
-        for x in 0..exact.width {
-            let (mut a0, mut b0) = (0.0, 0.0);
-            for i in 0..n {
-                a0 += exact.stokes(x, y, i)[0];
-                b0 += other.stokes(x, y, i)[0];
-            }
-            mean += a0 / n as f64;
-            e0 += ((a0 - b0) / n as f64).powi(2);
-            ep += (pol(exact.stokes(x, y, at)) - pol(other.stokes(x, y, at))).powi(2);
-            count += 1.0;
-        }
-    }
-    let mean = mean / count;
-    [(e0 / count).sqrt() / mean, (ep / count).sqrt() / mean]
 }
 
 fn env_or<T: std::str::FromStr>(name: &str, default: T) -> T {

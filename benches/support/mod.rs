@@ -1,5 +1,8 @@
 //! What the benchmark binaries that print tables share: process CPU
-//! seconds (the steadier measure on a shared machine) and medians.
+//! seconds (the steadier measure on a shared machine), medians, and the
+//! error of one film against another.
+
+use spar::render::film::Film;
 
 /// CPU seconds (user + system) this process has used, from
 /// /proc/self/stat (fields 14 and 15, in clock ticks of 1/100 s).
@@ -16,4 +19,28 @@ pub fn cpu_seconds() -> f64 {
 pub fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
+}
+
+/// (S0 RMSE over all wavelengths, polarized RMSE at `at`) of `other`
+/// against `exact`, relative to the mean S0 of `exact`.
+#[allow(dead_code)] // used by the bundle and crystal_cost benches only
+pub fn errors(exact: &Film, other: &Film, at: usize) -> [f64; 2] {
+    let n = exact.lambdas.len();
+    let (mut mean, mut e0, mut ep, mut count) = (0.0, 0.0, 0.0, 0.0);
+    let pol = |s: [f64; 4]| (s[1] * s[1] + s[2] * s[2] + s[3] * s[3]).sqrt();
+    for y in 0..exact.height {
+        for x in 0..exact.width {
+            let (mut a0, mut b0) = (0.0, 0.0);
+            for i in 0..n {
+                a0 += exact.stokes(x, y, i)[0];
+                b0 += other.stokes(x, y, i)[0];
+            }
+            mean += a0 / n as f64;
+            e0 += ((a0 - b0) / n as f64).powi(2);
+            ep += (pol(exact.stokes(x, y, at)) - pol(other.stokes(x, y, at))).powi(2);
+            count += 1.0;
+        }
+    }
+    let mean = mean / count;
+    [(e0 / count).sqrt() / mean, (ep / count).sqrt() / mean]
 }
