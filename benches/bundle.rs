@@ -25,40 +25,11 @@ use std::path::Path;
 use std::time::Instant;
 
 mod support;
-use support::{cpu_seconds, errors, median};
+use support::{brilliant_scene, cpu_seconds, errors, median};
 
 fn scene_text(medium: &str, size: u32, bundle: f64) -> String {
-    let axis = if medium == "n-bk7" {
-        String::new()
-    } else {
-        "optic_axis = [0.0, 0.6, 0.8]".to_string()
-    };
-    format!(
-        r#"
-[camera]
-eye = [0.0, -3.2, 4.2]
-look_at = [0.0, 0.0, -0.1]
-up = [0.0, 0.0, 1.0]
-fov = 28.0
-resolution = [{size}, {size}]
-samples = 1
-[render]
-wavelengths = 21
-max_depth = 30
-prune = 1e-4
-coherence = "incoherent"
-bundle = {bundle}
-[[object]]
-cut = {{ name = "round-brilliant" }}
-medium = "{medium}"
-{axis}
-transform = {{ scale = 2.4, rotate = [0.0, 0.0, 15.0] }}
-[[light]]
-corners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, -1.5]]
-radiance = 1.0
-texture = "builtin:checker"
-"#
-    )
+    let keys = format!("prune = 1e-4\ncoherence = \"incoherent\"\nbundle = {bundle}");
+    brilliant_scene(medium, size, &keys)
 }
 
 fn main() {

@@ -41,7 +41,7 @@ use std::path::Path;
 use std::time::Instant;
 
 mod support;
-use support::{cpu_seconds, errors, median};
+use support::{brilliant_scene, cpu_seconds, errors, median};
 
 #[derive(Clone, Copy)]
 struct Row {
@@ -52,44 +52,12 @@ struct Row {
 }
 
 fn scene_text(row: Row, size: u32, coherence: &str, dispersion: &str, prune: f64) -> String {
-    let axis = if row.medium == "n-bk7" {
-        String::new()
-    } else {
-        "optic_axis = [0.0, 0.6, 0.8]".to_string()
-    };
-    format!(
-        r#"
-[camera]
-eye = [0.0, -3.2, 4.2]
-look_at = [0.0, 0.0, -0.1]
-up = [0.0, 0.0, 1.0]
-fov = 28.0
-resolution = [{size}, {size}]
-samples = 1
-[render]
-wavelengths = 21
-max_depth = 30
-prune = {prune}
-coherence = "{coherence}"
-dispersion = {dispersion}
-roulette = {roulette}
-bundle = {bundle}
-seed = {seed}
-[[object]]
-cut = {{ name = "round-brilliant" }}
-medium = "{medium}"
-{axis}
-transform = {{ scale = 2.4, rotate = [0.0, 0.0, 15.0] }}
-[[light]]
-corners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, -1.5]]
-radiance = 1.0
-texture = "builtin:checker"
-"#,
-        medium = row.medium,
-        roulette = row.roulette,
-        bundle = row.bundle,
-        seed = row.seed
-    )
+    let keys = format!(
+        "prune = {prune}\ncoherence = \"{coherence}\"\ndispersion = {dispersion}\n\
+         roulette = {}\nbundle = {}\nseed = {}",
+        row.roulette, row.bundle, row.seed
+    );
+    brilliant_scene(row.medium, size, &keys)
 }
 
 fn env_or<T: std::str::FromStr>(name: &str, default: T) -> T {

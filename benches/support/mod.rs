@@ -44,3 +44,40 @@ pub fn errors(exact: &Film, other: &Film, at: usize) -> [f64; 2] {
     let mean = mean / count;
     [(e0 / count).sqrt() / mean, (ep / count).sqrt() / mean]
 }
+
+/// The quartz-brilliant bench scene (`scenes/quartz-brilliant.toml`'s
+/// stone, camera and checker light) at `size`² in `medium` (an optic axis
+/// for any medium but N-BK7), 21 wavelengths, depth 30, and the
+/// `[render]` keys `render_keys` (one per line).
+#[allow(dead_code)] // used by the bundle and crystal_cost benches only
+pub fn brilliant_scene(medium: &str, size: u32, render_keys: &str) -> String {
+    let axis = if medium == "n-bk7" {
+        ""
+    } else {
+        "optic_axis = [0.0, 0.6, 0.8]"
+    };
+    format!(
+        r#"
+[camera]
+eye = [0.0, -3.2, 4.2]
+look_at = [0.0, 0.0, -0.1]
+up = [0.0, 0.0, 1.0]
+fov = 28.0
+resolution = [{size}, {size}]
+samples = 1
+[render]
+wavelengths = 21
+max_depth = 30
+{render_keys}
+[[object]]
+cut = {{ name = "round-brilliant" }}
+medium = "{medium}"
+{axis}
+transform = {{ scale = 2.4, rotate = [0.0, 0.0, 15.0] }}
+[[light]]
+corners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, -1.5]]
+radiance = 1.0
+texture = "builtin:checker"
+"#
+    )
+}
