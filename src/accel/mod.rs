@@ -11,6 +11,7 @@
 use glam::DVec3;
 
 pub mod bvh;
+pub mod convex;
 #[cfg(feature = "native")]
 pub mod embree;
 

@@ -269,8 +269,8 @@ impl Tracer<'_> {
         }
         stats.rays += 2;
         let traced = (
-            self.trace(mo.origin, mo.dir, stats),
-            self.trace(me.origin, me.dir, stats),
+            self.trace(mo.origin, mo.dir, region, stats),
+            self.trace(me.origin, me.dir, region, stats),
         );
         let (Some(to), Some(te)) = traced else {
             return self.split(

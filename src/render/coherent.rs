@@ -319,7 +319,7 @@ impl Tracer<'_> {
     #[allow(clippy::too_many_arguments)]
     fn walk(&self, p: &Path, basis: &[DVec3; 2], w: &mut Walk<'_>, stats: &mut Stats) {
         stats.rays += 1;
-        let Some(Traced { ray, hit, t_hit }) = self.trace(p.origin, p.dir, stats) else {
+        let Some(Traced { ray, hit, t_hit }) = self.trace(p.origin, p.dir, p.region, stats) else {
             return;
         };
         if p.region == Region::Ambient && self.reach_light(p, basis, t_hit, w.leaves) {

@@ -40,6 +40,7 @@
 //! f64: the same ray, so exact for any camera, but the backend's f32
 //! arithmetic then works at the scene's scale, not the camera's distance.
 
+use crate::accel::convex::{ConvexInterior, Exit};
 use crate::accel::{Hit, Intersector, Ray};
 use crate::optics::backward::Feeders;
 use crate::optics::modes::{Side, WaveKind};
@@ -300,6 +301,11 @@ pub struct TreeSettings {
     /// Skip a subtree when its contribution bound (throughput × brightest
     /// radiance) is below this fraction of the brightest radiance.
     pub prune: f64,
+    /// Rays inside a convex object leave it by its facet planes
+    /// ([`crate::accel::convex`]) instead of asking the backend: the same
+    /// hits to f64 rounding, fewer instructions. On in every render; off
+    /// only to compare with the backend's own hits.
+    pub convex_exit: bool,
 }
 
 /// Where a feeder on `side` of a node travels, and which way its ray's
@@ -366,6 +372,9 @@ pub struct Tracer<'a> {
     bounds: Option<(DVec3, f64)>,
     /// Which objects absorb (the rest skip Beer–Lambert altogether).
     absorbing: Vec<bool>,
+    /// The facet planes of each convex object: rays inside it leave by
+    /// them without the backend ([`crate::accel::convex`]).
+    convex: Vec<Option<ConvexInterior>>,
 }
 
 /// One backward ray: the forward wave of `kind` that arrives at `origin`
@@ -417,6 +426,32 @@ fn unpolarized_gain(t: &Jones) -> f64 {
     t.norm_sqr() / t.cols as f64
 }
 
+/// The facet planes of each object a ray inside can leave by alone: a
+/// convex one whose bounding box meets no other object's (then nothing
+/// else can stand between a point inside it and its surface, even in a
+/// scene built without the loader's overlap checks).
+fn convex_interiors(scene: &Scene, enabled: bool) -> Vec<Option<ConvexInterior>> {
+    let boxes: Vec<(DVec3, DVec3)> = scene.objects.iter().map(|o| o.mesh.bounds()).collect();
+    let apart =
+        |a: &(DVec3, DVec3), b: &(DVec3, DVec3)| a.1.cmplt(b.0).any() || b.1.cmplt(a.0).any();
+    scene
+        .objects
+        .iter()
+        .enumerate()
+        .map(|(i, o)| {
+            let alone = boxes
+                .iter()
+                .enumerate()
+                .all(|(j, b)| j == i || apart(&boxes[i], b));
+            if enabled && alone {
+                ConvexInterior::new(&o.mesh)
+            } else {
+                None
+            }
+        })
+        .collect()
+}
+
 impl<'a> Tracer<'a> {
     pub fn new(scene: &'a Scene, accel: &'a dyn Intersector, settings: TreeSettings) -> Tracer<'a> {
         // How far each object reaches: its size or its distance from the
@@ -463,6 +498,7 @@ impl<'a> Tracer<'a> {
                 .iter()
                 .map(|o| o.material.absorption().is_some())
                 .collect(),
+            convex: convex_interiors(scene, settings.convex_exit),
         }
     }
 
@@ -682,7 +718,35 @@ impl<'a> Tracer<'a> {
     /// Intersects the backward ray from `origin` along `dir` (started on
     /// the scene's bounding sphere when it comes from outside); `None`
     /// when the backend cannot trace it (counted lost).
-    pub(super) fn trace(&self, origin: DVec3, dir: DVec3, stats: &mut Stats) -> Option<Traced> {
+    pub(super) fn trace(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        region: Region,
+        stats: &mut Stats,
+    ) -> Option<Traced> {
+        // Inside a convex object its facet planes say where the ray leaves
+        // (a ray the planes are unsure of goes to the backend).
+        if let Region::Inside(object) = region {
+            if let Some(cell) = &self.convex[object as usize] {
+                if let Exit::Facet { t, prim, .. } = cell.exit(origin, dir) {
+                    let ray = Ray::new(origin, dir);
+                    let hit = Hit {
+                        t,
+                        geom: object,
+                        prim,
+                        u: 0.0,
+                        v: 0.0,
+                        ng: DVec3::ZERO,
+                    };
+                    return Some(Traced {
+                        ray: Some(ray),
+                        hit: Some(hit),
+                        t_hit: t,
+                    });
+                }
+            }
+        }
         // The ray handed to the backend starts `t0` along the query's.
         let (ray, t0) = self.start_in_bounds(origin, dir);
         let hit = match ray {
@@ -930,7 +994,7 @@ impl<'a> Tracer<'a> {
         stats: &mut Stats,
     ) {
         stats.rays += 1;
-        let traced = self.trace(q.origin, q.dir, stats);
+        let traced = self.trace(q.origin, q.dir, q.region, stats);
         self.radiance_traced(q, traced, basis, batch, key, out, scratch, stats);
     }
 

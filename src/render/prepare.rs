@@ -166,5 +166,6 @@ pub fn tree(scene: &Scene) -> TreeSettings {
     TreeSettings {
         max_depth: scene.settings.max_depth,
         prune: scene.settings.prune,
+        convex_exit: true,
     }
 }

@@ -14,6 +14,7 @@ mod render_adaptive;
 mod render_biaxial;
 mod render_bundle;
 mod render_coherence;
+mod render_convex;
 mod render_furnace;
 mod render_hard_cases;
 mod render_lighting;

@@ -436,6 +436,7 @@ radiance = 1.0
         let settings = TreeSettings {
             max_depth,
             prune: scene.settings.prune,
+            convex_exit: true,
         };
         let strategy = |roulette| Strategy {
             coherence: CoherenceModel::Incoherent,

@@ -59,6 +59,7 @@ fn check_unbiased(
     let settings = TreeSettings {
         max_depth: 12,
         prune: 0.0,
+        convex_exit: true,
     };
     let strategy = |roulette| Strategy {
         coherence: model,

@@ -49,6 +49,7 @@ fn stochastic_and_hybrid_branching_are_unbiased() {
         let settings = TreeSettings {
             max_depth: 12,
             prune: 0.0,
+            convex_exit: true,
         };
         let full = Tracer::new(&scene, accel.as_ref(), settings);
         let media = WavelengthMedia::new(&scene, 550.0);
@@ -101,6 +102,7 @@ fn a_shared_geometry_batch_equals_per_wavelength_trees() {
             TreeSettings {
                 max_depth: 12,
                 prune: 0.0,
+                convex_exit: true,
             },
         );
         let lambdas = [420.0, 510.0, 580.0, 690.0];
@@ -147,6 +149,7 @@ fn scalar_transport_is_unpolarized_and_exact_without_interfaces() {
     let settings = TreeSettings {
         max_depth: 12,
         prune: 0.0,
+        convex_exit: true,
     };
     let scalar = Tracer::new(&scene, accel.as_ref(), settings).with_strategy(Strategy {
         branching: Branching::Full,
