@@ -127,17 +127,21 @@ impl ConvexInterior {
         if !(origin.is_finite() && dir.is_finite()) {
             return Exit::Unsure;
         }
-        // Branch-free, per lane: the nearest crossing and the smallest
-        // distance inside.
+        // Branch-free, per lane: the nearest crossing as a fraction
+        // inside / speed (plane i is nearer than the best so far when
+        // inside_i · speed < inside · speed_i; the start 1 / 0 loses to every
+        // approaching plane and to no receding one, since every inside is
+        // positive when the answer counts) and the smallest distance inside.
         let (o, d) = (origin, dir);
-        let mut nearest = [f64::INFINITY; LANES];
+        let mut num = [1.0f64; LANES];
+        let mut den = [0.0f64; LANES];
         let mut least_inside = [f64::INFINITY; LANES];
         for b in &self.blocks {
             for l in 0..LANES {
                 let (inside, speed) = b.approach(l, o, d);
-                let t = inside / speed;
-                let t = if speed > 0.0 { t } else { f64::INFINITY };
-                nearest[l] = if t < nearest[l] { t } else { nearest[l] };
+                let nearer = inside * den[l] < num[l] * speed;
+                num[l] = if nearer { inside } else { num[l] };
+                den[l] = if nearer { speed } else { den[l] };
                 least_inside[l] = if inside < least_inside[l] {
                     inside
                 } else {
@@ -146,16 +150,24 @@ impl ConvexInterior {
             }
         }
         let inside = least_inside.into_iter().fold(f64::INFINITY, f64::min);
-        let t = nearest.into_iter().fold(f64::INFINITY, f64::min);
-        if !(inside > 0.0) || !t.is_finite() {
+        if !(inside > 0.0) {
             return Exit::Unsure;
         }
-        // Which plane that was: the same expressions give the same bits.
+        // The nearest over the lanes, and which plane it was: the one whose
+        // distance and speed are the winner's, bit for bit.
+        let mut t = f64::INFINITY;
+        let mut winner = (0.0, 0.0);
+        for l in 0..LANES {
+            let tl = num[l] / den[l];
+            if den[l] > 0.0 && tl < t {
+                t = tl;
+                winner = (num[l], den[l]);
+            }
+        }
         let mut best = (t, usize::MAX);
         'find: for (k, b) in self.blocks.iter().enumerate() {
             for l in 0..LANES {
-                let (inside, speed) = b.approach(l, o, d);
-                if speed > 0.0 && inside / speed == t {
+                if b.approach(l, o, d) == winner {
                     best.1 = k * LANES + l;
                     break 'find;
                 }
