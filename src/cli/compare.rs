@@ -14,7 +14,7 @@
 use super::args::SceneOverrides;
 use super::common::{check_output, develop_image, load_scene, mono_wavelength};
 use super::error::CliError;
-use super::render::{render_film, Rendered};
+use super::render::{render_film_with, Rendered};
 use crate::accel::AccelKind;
 use crate::image::{Image, PixelType, WriteOptions};
 use crate::render::output::OutputMode;
@@ -55,6 +55,11 @@ pub struct CompareArgs {
     /// Only the table (no "wrote" lines).
     #[arg(long, short)]
     pub quiet: bool,
+    /// Trace every ray with the backends, the rays inside convex stones
+    /// too (renders send those through the stone's facet planes, so by
+    /// default the backends are compared on the rays outside stones).
+    #[arg(long)]
+    pub backend_only: bool,
 }
 
 /// How far two images (or films) are apart.
@@ -256,7 +261,15 @@ pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
     for round in 0..args.repeat {
         for (i, kind) in kinds.into_iter().enumerate() {
             let c0 = process_cpu_seconds();
-            let r = render_film(&scene, &modes, mono_nm, threads, false, kind)?;
+            let r = render_film_with(
+                &scene,
+                &modes,
+                mono_nm,
+                threads,
+                false,
+                kind,
+                !args.backend_only,
+            )?;
             let c = c0.zip(process_cpu_seconds()).map(|(a, b)| b - a);
             cpu[i] = match (cpu[i], c) {
                 (Some(best), Some(c)) => Some(best.min(c)),
@@ -291,6 +304,17 @@ pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
             threads
         },
         args.repeat
+    )
+    .map_err(io)?;
+    writeln!(
+        out,
+        "{}",
+        if args.backend_only {
+            "rays inside convex stones: traced by the backends (--backend-only)"
+        } else {
+            "rays inside convex stones: their facet planes, as in renders (the backends trace \
+             the rest; --backend-only for every ray)"
+        }
     )
     .map_err(io)?;
     writeln!(out).map_err(io)?;

@@ -102,6 +102,21 @@ pub fn render_film(
     progress: bool,
     accel: AccelKind,
 ) -> Result<Rendered, CliError> {
+    render_film_with(scene, modes, mono_nm, threads, progress, accel, true)
+}
+
+/// [`render_film`], with `convex_exit` false sending every ray to the
+/// backend, the rays inside convex stones too (`spar compare
+/// --backend-only`).
+pub fn render_film_with(
+    scene: &Scene,
+    modes: &[OutputMode],
+    mono_nm: f64,
+    threads: usize,
+    progress: bool,
+    accel: AccelKind,
+    convex_exit: bool,
+) -> Result<Rendered, CliError> {
     let (w, h) = (scene.camera.width, scene.camera.height);
     let n = prepare::lambdas(scene, modes, mono_nm).len();
     check_film_memory(
@@ -114,7 +129,8 @@ pub fn render_film(
     let t0 = Instant::now();
     let accel = prepare::accel(scene, accel, pool.current_num_threads(), None)?;
     let accel_time = t0.elapsed();
-    let options = prepare::options(scene, modes, mono_nm, progress);
+    let mut options = prepare::options(scene, modes, mono_nm, progress);
+    options.tree.convex_exit = convex_exit;
     let t1 = Instant::now();
     let (film, stats) = pool.install(|| crate::render::render(scene, accel.as_ref(), &options));
     let render_time = t1.elapsed();

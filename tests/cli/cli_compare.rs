@@ -74,6 +74,10 @@ fn compare_prints_the_table_and_writes_difference_images() {
     );
     assert_eq!(code, 0, "{table}{err}");
     assert!(table.contains("32x32 px"), "{table}");
+    assert!(
+        table.contains("rays inside convex stones: their facet planes, as in renders"),
+        "{table}"
+    );
     // The timing table: a row per backend with build, render, rays, rays/s.
     for backend in ["embree", "rust"] {
         let line = table
@@ -164,6 +168,48 @@ fn compare_prints_the_table_and_writes_difference_images() {
         (max - max_abs).abs() <= 1e-3 * max_abs,
         "{max} vs {max_abs}\n{table}"
     );
+}
+
+#[cfg(feature = "native")]
+#[test]
+fn compare_backend_only_sends_every_ray_to_the_backends() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = glass();
+    let args = |extra: &[&'static str]| {
+        let mut a = vec![
+            "compare",
+            scene.to_str().unwrap(),
+            "--resolution",
+            "16x16",
+            "--threads",
+            "1",
+            "-q",
+            "-o",
+            "d.png",
+        ];
+        a.extend_from_slice(extra);
+        a.into_iter().map(String::from).collect::<Vec<String>>()
+    };
+    let run = |a: Vec<String>| {
+        let a: Vec<&str> = a.iter().map(|s| s.as_str()).collect();
+        spar(&a, dir.path())
+    };
+    let (code, table, err) = run(args(&["--backend-only"]));
+    assert_eq!(code, 0, "{table}{err}");
+    assert!(
+        table.contains("rays inside convex stones: traced by the backends (--backend-only)"),
+        "{table}"
+    );
+    // The same rays either way (the planes and the triangles agree).
+    let rays = |t: &str| -> Vec<u64> {
+        t.lines()
+            .filter(|l| l.starts_with("embree") || l.starts_with("rust"))
+            .map(|l| l.split_whitespace().nth(7).unwrap().parse().unwrap())
+            .collect()
+    };
+    let (code, default, err) = run(args(&[]));
+    assert_eq!(code, 0, "{default}{err}");
+    assert_eq!(rays(&table), rays(&default), "{table}\n{default}");
 }
 
 #[cfg(feature = "native")]
