@@ -729,15 +729,18 @@ impl<'a> Tracer<'a> {
         // (a ray the planes are unsure of goes to the backend).
         if let Region::Inside(object) = region {
             if let Some(cell) = &self.convex[object as usize] {
-                if let Exit::Facet { t, prim, .. } = cell.exit(origin, dir) {
+                if let Exit::Facet { t, facet, prim } = cell.exit(origin, dir) {
                     let ray = Ray::new(origin, dir);
+                    // The renderer reads t, geom and prim; the barycentric
+                    // coordinates are not computed (0), the normal is the
+                    // facet's.
                     let hit = Hit {
                         t,
                         geom: object,
                         prim,
                         u: 0.0,
                         v: 0.0,
-                        ng: DVec3::ZERO,
+                        ng: self.scene.objects[object as usize].mesh.facets[facet as usize].normal,
                     };
                     return Some(Traced {
                         ray: Some(ray),
