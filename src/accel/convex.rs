@@ -40,24 +40,17 @@ pub struct ConvexInterior {
     prims: Vec<u32>,
 }
 
-/// [`LANES`] planes `n · x <= offset`, as columns.
-#[derive(Clone, Copy, Debug)]
-struct Block {
-    nx: [f64; LANES],
-    ny: [f64; LANES],
-    nz: [f64; LANES],
-    offset: [f64; LANES],
-}
+/// [`LANES`] planes `n · x <= offset`, as rows `[nx, ny, nz, offset]`
+/// (the layout the AVX loop in `native::simd` loads).
+type Block = [[f64; LANES]; 4];
 
-impl Block {
-    /// How far inside plane `l` the point `o` is, and the speed of
-    /// direction `d` towards it.
-    #[inline(always)]
-    fn approach(&self, l: usize, o: DVec3, d: DVec3) -> (f64, f64) {
-        let (nx, ny, nz) = (self.nx[l], self.ny[l], self.nz[l]);
-        let inside = self.offset[l] - (nx * o.x + ny * o.y + nz * o.z);
-        (inside, nx * d.x + ny * d.y + nz * d.z)
-    }
+/// How far inside plane `l` of block `b` the point `o` is, and the speed
+/// of direction `d` towards it.
+#[inline(always)]
+fn approach(b: &Block, l: usize, o: DVec3, d: DVec3) -> (f64, f64) {
+    let (nx, ny, nz) = (b[0][l], b[1][l], b[2][l]);
+    let inside = b[3][l] - (nx * o.x + ny * o.y + nz * o.z);
+    (inside, nx * d.x + ny * d.y + nz * d.z)
 }
 
 /// Where a ray from inside leaves.
@@ -100,45 +93,33 @@ impl ConvexInterior {
         }
         // Padding planes 0 · x <= 1: every point is inside them and no ray
         // approaches them.
-        let mut blocks = vec![
-            Block {
-                nx: [0.0; LANES],
-                ny: [0.0; LANES],
-                nz: [0.0; LANES],
-                offset: [1.0; LANES],
-            };
-            mesh.facets.len().div_ceil(LANES)
-        ];
+        let padding: Block = [[0.0; LANES], [0.0; LANES], [0.0; LANES], [1.0; LANES]];
+        let mut blocks = vec![padding; mesh.facets.len().div_ceil(LANES)];
         for (i, facet) in mesh.facets.iter().enumerate() {
             let (b, l) = (&mut blocks[i / LANES], i % LANES);
-            b.nx[l] = facet.normal.x;
-            b.ny[l] = facet.normal.y;
-            b.nz[l] = facet.normal.z;
-            b.offset[l] = facet.offset;
+            b[0][l] = facet.normal.x;
+            b[1][l] = facet.normal.y;
+            b[2][l] = facet.normal.z;
+            b[3][l] = facet.offset;
         }
         Some(ConvexInterior { blocks, prims })
     }
 
-    /// The facet a ray from `origin` along `dir` leaves through
-    /// (Haines 1991: the nearest crossing among the planes it moves
-    /// towards).
-    #[inline]
-    pub fn exit(&self, origin: DVec3, dir: DVec3) -> Exit {
-        if !(origin.is_finite() && dir.is_finite()) {
-            return Exit::Unsure;
-        }
-        // Branch-free, per lane: the nearest crossing as a fraction
-        // inside / speed (plane i is nearer than the best so far when
-        // inside_i · speed < inside · speed_i; the start 1 / 0 loses to every
-        // approaching plane and to no receding one, since every inside is
-        // positive when the answer counts) and the smallest distance inside.
-        let (o, d) = (origin, dir);
+    /// The plane loop, portable: per lane, the nearest crossing as a
+    /// fraction inside / speed (plane i is nearer than the best so far
+    /// when inside_i · speed < inside · speed_i; the start 1 / 0 loses to
+    /// every approaching plane and to no receding one, since every inside
+    /// is positive when the answer counts) and the smallest distance
+    /// inside. Branch-free, so the compiler vectorizes it;
+    /// `native::simd` runs the same operations in AVX registers.
+    #[inline(always)]
+    fn lanes(&self, o: DVec3, d: DVec3) -> ([f64; LANES], [f64; LANES], [f64; LANES]) {
         let mut num = [1.0f64; LANES];
         let mut den = [0.0f64; LANES];
         let mut least_inside = [f64::INFINITY; LANES];
         for b in &self.blocks {
             for l in 0..LANES {
-                let (inside, speed) = b.approach(l, o, d);
+                let (inside, speed) = approach(b, l, o, d);
                 let nearer = inside * den[l] < num[l] * speed;
                 num[l] = if nearer { inside } else { num[l] };
                 den[l] = if nearer { speed } else { den[l] };
@@ -149,30 +130,66 @@ impl ConvexInterior {
                 };
             }
         }
+        (num, den, least_inside)
+    }
+
+    /// The facet a ray from `origin` along `dir` leaves through
+    /// (Haines 1991: the nearest crossing among the planes it moves
+    /// towards).
+    #[inline]
+    pub fn exit(&self, origin: DVec3, dir: DVec3) -> Exit {
+        if !(origin.is_finite() && dir.is_finite()) {
+            return Exit::Unsure;
+        }
+        let (o, d) = (origin, dir);
+        #[cfg(feature = "native")]
+        if let Some(l) =
+            crate::native::simd::nearest_crossing(&self.blocks, o.to_array(), d.to_array())
+        {
+            return self.nearest_of(l.num, l.den, l.least_inside, |lane| {
+                Some(l.plane[lane])
+                    .filter(|&p| p >= 0.0)
+                    .map(|p| p as usize)
+            });
+        }
+        let (num, den, least_inside) = self.lanes(o, d);
+        // The plane of a lane's winner: the first whose distance and speed
+        // are the winner's, bit for bit.
+        self.nearest_of(num, den, least_inside, |lane| {
+            self.blocks.iter().enumerate().find_map(|(k, b)| {
+                (0..LANES)
+                    .find(|&l| l == lane && approach(b, l, o, d) == (num[lane], den[lane]))
+                    .map(|l| k * LANES + l)
+            })
+        })
+    }
+
+    /// The exit from the lanes of the plane loop; `plane(lane)` names the
+    /// plane of a lane's winner.
+    #[inline(always)]
+    fn nearest_of(
+        &self,
+        num: [f64; LANES],
+        den: [f64; LANES],
+        least_inside: [f64; LANES],
+        plane: impl Fn(usize) -> Option<usize>,
+    ) -> Exit {
         let inside = least_inside.into_iter().fold(f64::INFINITY, f64::min);
         if !(inside > 0.0) {
             return Exit::Unsure;
         }
-        // The nearest over the lanes, and which plane it was: the one whose
-        // distance and speed are the winner's, bit for bit.
-        let mut t = f64::INFINITY;
-        let mut winner = (0.0, 0.0);
+        // The nearest over the lanes (on a tie, the lowest lane).
+        let mut best = (f64::INFINITY, usize::MAX);
         for l in 0..LANES {
-            let tl = num[l] / den[l];
-            if den[l] > 0.0 && tl < t {
-                t = tl;
-                winner = (num[l], den[l]);
+            let t = num[l] / den[l];
+            if den[l] > 0.0 && t < best.0 {
+                best = (t, l);
             }
         }
-        let mut best = (t, usize::MAX);
-        'find: for (k, b) in self.blocks.iter().enumerate() {
-            for l in 0..LANES {
-                if b.approach(l, o, d) == winner {
-                    best.1 = k * LANES + l;
-                    break 'find;
-                }
-            }
-        }
+        let best = match best {
+            (t, l) if t.is_finite() => (t, plane(l).unwrap_or(usize::MAX)),
+            _ => return Exit::Unsure,
+        };
         match best {
             (t, i) if t.is_finite() && i < self.prims.len() => Exit::Facet {
                 t,
@@ -288,6 +305,42 @@ mod tests {
             tested += 1;
         }
         assert!(same_facet > 1990, "{same_facet} of 2000 on the same facet");
+    }
+
+    #[cfg(feature = "native")]
+    #[test]
+    fn the_avx_loop_gives_the_portable_loops_bits() {
+        // Same lanes bit for bit (renders on machines with and without AVX
+        // merge), and each lane's plane is the first one of that lane with
+        // the lane's distance and speed.
+        let mesh = brilliant();
+        let cell = ConvexInterior::new(&mesh).unwrap();
+        let (lo, hi) = mesh.bounds();
+        let mut u = uniforms(3);
+        let mut checked = 0;
+        for _ in 0..3000 {
+            let o = lo + (hi - lo) * DVec3::new(u(), u(), u());
+            let d = DVec3::new(2.0 * u() - 1.0, 2.0 * u() - 1.0, 2.0 * u() - 1.0);
+            let Some(avx) =
+                crate::native::simd::nearest_crossing(&cell.blocks, o.to_array(), d.to_array())
+            else {
+                eprintln!("this CPU has no AVX: nothing to compare");
+                return;
+            };
+            let (num, den, least) = cell.lanes(o, d);
+            let bits = |a: [f64; LANES]| a.map(f64::to_bits);
+            assert_eq!(bits(avx.num), bits(num));
+            assert_eq!(bits(avx.den), bits(den));
+            assert_eq!(bits(avx.least_inside), bits(least));
+            for l in 0..LANES {
+                let first = cell.blocks.iter().enumerate().find_map(|(k, b)| {
+                    (approach(b, l, o, d) == (num[l], den[l])).then_some((k * LANES + l) as f64)
+                });
+                assert_eq!(avx.plane[l], first.unwrap_or(-1.0), "lane {l}");
+            }
+            checked += 1;
+        }
+        assert_eq!(checked, 3000);
     }
 
     #[test]

@@ -5,3 +5,4 @@
 
 pub mod embree;
 pub mod oiio;
+pub mod simd;
