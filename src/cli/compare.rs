@@ -14,7 +14,7 @@
 use super::args::SceneOverrides;
 use super::common::{check_output, develop_image, load_scene, mono_wavelength};
 use super::error::CliError;
-use super::render::{render_film_with, Rendered};
+use super::render::{render_film, Rendered};
 use crate::accel::AccelKind;
 use crate::image::{Image, PixelType, WriteOptions};
 use crate::render::output::OutputMode;
@@ -261,7 +261,7 @@ pub fn run_to(args: &CompareArgs, out: &mut dyn Write) -> Result<(), CliError> {
     for round in 0..args.repeat {
         for (i, kind) in kinds.into_iter().enumerate() {
             let c0 = process_cpu_seconds();
-            let r = render_film_with(
+            let r = render_film(
                 &scene,
                 &modes,
                 mono_nm,

@@ -151,7 +151,15 @@ pub fn run(args: &ContactSheetArgs) -> Result<(), CliError> {
             eprintln!("rendering {}", path.display());
         }
         let threads = args.threads.unwrap_or(0);
-        let done = render_film(scene, &args.mode, mono_nm, threads, !args.quiet, accel)?;
+        let done = render_film(
+            scene,
+            &args.mode,
+            mono_nm,
+            threads,
+            !args.quiet,
+            accel,
+            true,
+        )?;
         let name = path.file_stem().map_or_else(
             || path.display().to_string(),
             |s| s.to_string_lossy().into_owned(),

@@ -93,22 +93,10 @@ pub struct Rendered {
 
 /// Renders what `modes` need: the scene's colour wavelengths for the
 /// spectral modes, `mono_nm` for the others; `threads` 0 means all cores;
-/// `accel` traces.
+/// `accel` traces; `convex_exit` false sends every ray to it, the rays
+/// inside convex stones too (`spar compare --backend-only`; renders pass
+/// true).
 pub fn render_film(
-    scene: &Scene,
-    modes: &[OutputMode],
-    mono_nm: f64,
-    threads: usize,
-    progress: bool,
-    accel: AccelKind,
-) -> Result<Rendered, CliError> {
-    render_film_with(scene, modes, mono_nm, threads, progress, accel, true)
-}
-
-/// [`render_film`], with `convex_exit` false sending every ray to the
-/// backend, the rays inside convex stones too (`spar compare
-/// --backend-only`).
-pub fn render_film_with(
     scene: &Scene,
     modes: &[OutputMode],
     mono_nm: f64,

@@ -158,6 +158,7 @@ impl Reference {
             setup.threads,
             false,
             setup.accel,
+            true,
         )?;
         let film = if self.whole {
             r.film
@@ -273,7 +274,7 @@ fn render_halves(
             half.settings.seed = half_seed(ref_scene.settings.seed, k);
         }
         if plan.error_rows == 1 {
-            let r = render_film(&half, modes, mono_nm, threads, !setup.quiet, accel)?;
+            let r = render_film(&half, modes, mono_nm, threads, !setup.quiet, accel, true)?;
             seconds += (r.accel_time + r.render_time).as_secs_f64();
             halves.push(r.film);
         } else {
@@ -489,7 +490,7 @@ mod tests {
         scene.samples = 2;
         let modes = [OutputMode::Color, OutputMode::Dop];
         let kind = AccelKind::default();
-        let whole = render_film(&scene, &modes, 580.0, 2, false, kind).unwrap();
+        let whole = render_film(&scene, &modes, 580.0, 2, false, kind, true).unwrap();
         let rows = error_rows(12, 5);
         assert_eq!(rows, vec![2, 7]);
         let (film, _) = render_rows(&scene, &modes, 580.0, 2, kind, &rows).unwrap();
