@@ -123,6 +123,33 @@ impl Spectral {
     }
 }
 
+/// Weight of each stratum offset's colour wavelengths in a pixel of `total`
+/// samples whose sample `j` traces offset `(first + j) % stride`
+/// (docs/physics.md §6.3): `total / n_o`, where `n_o` is how many of the
+/// samples trace offset `o`, so each wavelength's estimate is the mean of
+/// its own samples and weighs exactly as much as every other wavelength's,
+/// whatever `total` is. With fewer samples than the stride some offsets are
+/// never traced, and `stride` (the weight of tracing with probability
+/// 1/stride) is the unbiased one; `exact_counts = false` (a pixel that may
+/// stop early, not knowing its sample count) asks for that weight too.
+pub fn stratum_weights(stride: usize, first: usize, total: u32, exact_counts: bool) -> Vec<f64> {
+    let total = total as usize;
+    if !exact_counts || total < stride {
+        return vec![stride as f64; stride];
+    }
+    (0..stride)
+        .map(|o| {
+            // Samples j < total with (first + j) % stride == o: one per full
+            // round of `stride`, and one more if o comes up in the last,
+            // partial round (its j = (o - first) mod stride is below the
+            // remainder).
+            let extra = ((o + stride - first % stride) % stride) < total % stride;
+            let n = total / stride + extra as usize;
+            total as f64 / n as f64
+        })
+        .collect()
+}
+
 /// Which paths the wavelengths follow through dispersive media.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum DispersionMode {
@@ -373,6 +400,41 @@ mod tests {
             "branching=full polarization=full spectral=all dispersion=on"
         );
         assert!(Approximations::default().is_exact());
+    }
+
+    #[test]
+    fn stratum_weights_weigh_every_wavelength_equally() {
+        // Counting the samples directly: offset o's samples times its weight
+        // add up to the pixel's sample count, for any count and start.
+        for stride in 1..9usize {
+            for first in 0..stride {
+                for total in 1..40u32 {
+                    let w = stratum_weights(stride, first, total, true);
+                    let mut sum = vec![0.0; stride];
+                    for j in 0..total as usize {
+                        let o = (first + j) % stride;
+                        sum[o] += w[o];
+                    }
+                    for (o, s) in sum.iter().enumerate() {
+                        if (total as usize) < stride {
+                            // Unbiased thinning: weight stride where traced.
+                            assert_eq!(w[o], stride as f64);
+                        } else {
+                            assert!(
+                                (s - total as f64).abs() < 1e-9,
+                                "{stride} {first} {total} {o}"
+                            );
+                        }
+                    }
+                    if total as usize % stride == 0 {
+                        assert!(w.iter().all(|&x| x == stride as f64));
+                    }
+                }
+                assert!(stratum_weights(stride, first, 16, false)
+                    .iter()
+                    .all(|&x| x == stride as f64));
+            }
+        }
     }
 
     #[test]

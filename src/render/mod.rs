@@ -386,21 +386,29 @@ pub fn render_part(
                     // Samples this pixel took when adaptive sampling
                     // stopped it early.
                     let mut stopped_at = None;
+                    // The strata's offset of sample 0: random per pixel,
+                    // then rotating, so any `stride` consecutive samples
+                    // trace every colour wavelength once.
+                    let first = if stride > 1 {
+                        let key = SampleKey {
+                            seed: opts.seed,
+                            pixel: y as u64 * w as u64 + x as u64,
+                            sample: 0,
+                        };
+                        (key.uniform(dim::WAVELENGTH) * stride as f64) as usize
+                    } else {
+                        0
+                    };
+                    // A pixel that may stop early does not know its sample
+                    // count, so it weighs by the stride.
+                    let weights = approx::stratum_weights(stride, first, total, measure.is_none());
                     for sample in spec.samples.start..spec.samples.end {
                         let key = SampleKey {
                             seed: opts.seed,
                             pixel: y as u64 * w as u64 + x as u64,
                             sample,
                         };
-                        // The strata's offset: random per pixel, then
-                        // rotating, so any `stride` consecutive samples
-                        // trace every colour wavelength once.
-                        let offset = if stride > 1 {
-                            let start = SampleKey { sample: 0, ..key }.uniform(dim::WAVELENGTH);
-                            ((start * stride as f64) as usize + sample as usize) % stride
-                        } else {
-                            0
-                        };
+                        let offset = (first + sample as usize) % stride;
                         let (jx, jy) = match camera.sampling {
                             camera::PixelSampling::Jittered => key.pixel_position(),
                             camera::PixelSampling::Center => (0.5, 0.5),
@@ -418,9 +426,8 @@ pub fn render_part(
                                 tracer.trace_camera(eye, d, [bx, by], batch, &key, out, &mut stats);
                                 for (&i, j) in idx.iter().zip(out.iter()) {
                                     // A thinned-out colour wavelength stands
-                                    // for the `stride` samples it is traced
-                                    // in one of.
-                                    let w = if i < colour { stride as f64 } else { 1.0 };
+                                    // for the samples that do not trace it.
+                                    let w = if i < colour { weights[offset] } else { 1.0 };
                                     let j = match &camera.analyzer {
                                         Some(a) => j.transform(a),
                                         None => *j,
