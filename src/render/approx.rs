@@ -98,54 +98,97 @@ pub struct Strategy {
     pub roulette: f64,
 }
 
-/// How the colour wavelengths are sampled.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum Spectral {
-    /// Every wavelength for every sample.
-    #[default]
-    All,
-    /// `per_sample` stratified wavelengths per sample (one per stratum of
-    /// ⌈n / per_sample⌉ neighbours), the strata's offset rotating from
-    /// sample to sample: each wavelength is traced with probability
-    /// 1/stride and weighted by stride (unbiased; exact per wavelength
-    /// once a pixel has a multiple of `stride` samples).
-    Hero { per_sample: u32 },
+/// How the colour wavelengths are sampled: which of them each sample
+/// traces. A single-wavelength mode's wavelength is traced for every
+/// sample whatever this says.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Spectral {
+    /// Colour wavelengths per sample that traces colour: `None`, every one
+    /// (`all`); `Some(K)`, K stratified ones (`hero:K`: one per stratum
+    /// of ⌈n / K⌉ neighbours, the strata's offset rotating from sample to
+    /// sample; docs/physics.md §6.3).
+    pub per_sample: Option<u32>,
+    /// Colour is traced on the first ⌈S/`every`⌉ of a pixel's S samples
+    /// only (`/N`; 1: every sample), so the single-wavelength modes get
+    /// `every` times the samples of the colour modes. The first samples,
+    /// not every Nth: the pixel positions are a low-discrepancy sequence
+    /// (render::sampling), whose first points are spread evenly and whose
+    /// every-other points are not.
+    pub every: u32,
+}
+
+impl Default for Spectral {
+    fn default() -> Self {
+        Spectral::ALL
+    }
 }
 
 impl Spectral {
-    /// Stride between the wavelengths traced together, for `n` colour
-    /// wavelengths (1: every wavelength).
-    pub fn stride(&self, n: usize) -> usize {
-        match *self {
-            Spectral::All => 1,
-            Spectral::Hero { per_sample } => n.div_ceil(per_sample.max(1) as usize).max(1),
+    /// Every colour wavelength for every sample.
+    pub const ALL: Spectral = Spectral {
+        per_sample: None,
+        every: 1,
+    };
+
+    /// `hero:K`: K stratified colour wavelengths per sample.
+    pub const fn hero(k: u32) -> Spectral {
+        Spectral {
+            per_sample: Some(k),
+            every: 1,
         }
+    }
+
+    /// Stride between the colour wavelengths traced together, for `n`
+    /// colour wavelengths (1: every wavelength).
+    pub fn stride(&self, n: usize) -> usize {
+        match self.per_sample {
+            None => 1,
+            Some(k) => n.div_ceil(k.max(1) as usize).max(1),
+        }
+    }
+
+    /// How many of a pixel's `total` samples trace colour: ⌈total/N⌉.
+    pub fn colour_samples(&self, total: u32) -> u32 {
+        total.div_ceil(self.every.max(1))
+    }
+
+    /// Whether some sample leaves some colour wavelength out.
+    pub fn thins(&self) -> bool {
+        *self != Spectral::ALL
     }
 }
 
-/// Weight of each stratum offset's colour wavelengths in a pixel of `total`
-/// samples whose sample `j` traces offset `(first + j) % stride`
-/// (docs/physics.md §6.3): `total / n_o`, where `n_o` is how many of the
-/// samples trace offset `o`, so each wavelength's estimate is the mean of
-/// its own samples and weighs exactly as much as every other wavelength's,
-/// whatever `total` is. With fewer samples than the stride some offsets are
-/// never traced, and `stride` (the weight of tracing with probability
-/// 1/stride) is the unbiased one; `exact_counts = false` (a pixel that may
-/// stop early, not knowing its sample count) asks for that weight too.
-pub fn stratum_weights(stride: usize, first: usize, total: u32, exact_counts: bool) -> Vec<f64> {
-    let total = total as usize;
-    if !exact_counts || total < stride {
-        return vec![stride as f64; stride];
+/// Weight of each colour stratum's values in a pixel of `total` samples
+/// whose first `traced` samples trace colour, sample `j` the stratum
+/// `(first + j) % stride` (docs/physics.md §6.3): `total / n_o`, where
+/// `n_o` is how many of the traced samples trace stratum `o`, so each
+/// wavelength's estimate is the mean of its own samples and weighs exactly
+/// as much as every other wavelength's, whatever the counts are. With
+/// fewer traced samples than the stride some strata are never traced, and
+/// `stride · total / traced` (the weight of tracing each stratum with
+/// probability `traced / stride`) is the unbiased one; `exact_counts =
+/// false` (a pixel that may stop early, not knowing its sample count) asks
+/// for that weight too.
+pub fn stratum_weights(
+    stride: usize,
+    first: usize,
+    traced: u32,
+    total: u32,
+    exact_counts: bool,
+) -> Vec<f64> {
+    let (traced, total) = (traced as usize, total as f64);
+    if !exact_counts || traced < stride {
+        return vec![stride as f64 * total / traced.max(1) as f64; stride];
     }
     (0..stride)
         .map(|o| {
-            // Samples j < total with (first + j) % stride == o: one per full
-            // round of `stride`, and one more if o comes up in the last,
-            // partial round (its j = (o - first) mod stride is below the
-            // remainder).
-            let extra = ((o + stride - first % stride) % stride) < total % stride;
-            let n = total / stride + extra as usize;
-            total as f64 / n as f64
+            // Samples j < traced with (first + j) % stride == o: one per
+            // full round of `stride`, and one more if o comes up in the
+            // last, partial round (its j = (o - first) mod stride is below
+            // the remainder).
+            let extra = ((o + stride - first % stride) % stride) < traced % stride;
+            let n = traced / stride + extra as usize;
+            total / n as f64
         })
         .collect()
 }
@@ -227,7 +270,7 @@ impl Default for Approximations {
     fn default() -> Self {
         Approximations {
             strategy: Strategy::default(),
-            spectral: Spectral::All,
+            spectral: Spectral::ALL,
             dispersion: DispersionMode::On,
         }
     }
@@ -318,26 +361,43 @@ impl FromStr for PolarizationArg {
 
 impl fmt::Display for Spectral {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Spectral::All => f.write_str("all"),
-            Spectral::Hero { per_sample } => write!(f, "hero:{per_sample}"),
+        match self.per_sample {
+            None => f.write_str("all")?,
+            Some(k) => write!(f, "hero:{k}")?,
         }
+        if self.every > 1 {
+            write!(f, "/{}", self.every)?;
+        }
+        Ok(())
     }
 }
 
 impl FromStr for Spectral {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
-        match s.trim() {
-            "all" => Ok(Spectral::All),
-            t => match t.strip_prefix("hero:").map(|k| k.trim().parse::<u32>()) {
-                Some(Ok(per_sample)) if per_sample >= 1 => Ok(Spectral::Hero { per_sample }),
-                _ => Err(format!(
-                    "`{s}`: spectral sampling is all (every wavelength per sample) or hero:K \
-                     (K ≥ 1 stratified wavelengths per sample)"
-                )),
+        let bad = || {
+            format!(
+                "`{s}`: spectral sampling is all (every colour wavelength per sample) or hero:K \
+                 (K ≥ 1 stratified wavelengths per sample), either optionally followed by /N \
+                 (N ≥ 1: colour on the first 1/N of each pixel's samples only)"
+            )
+        };
+        let t = s.trim();
+        let (head, every) = match t.split_once('/') {
+            Some((h, n)) => match n.trim().parse::<u32>() {
+                Ok(n) if n >= 1 => (h.trim(), n),
+                _ => return Err(bad()),
             },
-        }
+            None => (t, 1),
+        };
+        let per_sample = match head {
+            "all" => None,
+            h => match h.strip_prefix("hero:").map(|k| k.trim().parse::<u32>()) {
+                Some(Ok(k)) if k >= 1 => Some(k),
+                _ => return Err(bad()),
+            },
+        };
+        Ok(Spectral { per_sample, every })
     }
 }
 
@@ -386,13 +446,23 @@ mod tests {
         for s in ["full", "scalar"] {
             assert_eq!(s.parse::<PolarizationArg>().unwrap().to_string(), s);
         }
-        for s in ["all", "hero:1", "hero:4"] {
+        for s in ["all", "hero:1", "hero:4", "all/2", "hero:7/3"] {
             assert_eq!(s.parse::<Spectral>().unwrap().to_string(), s);
         }
+        assert_eq!("hero:7/1".parse::<Spectral>(), Ok(Spectral::hero(7)));
+        assert_eq!(
+            " hero:7 / 2 ".parse::<Spectral>(),
+            Ok(Spectral {
+                per_sample: Some(7),
+                every: 2
+            })
+        );
         for bad in ["", "hybrid", "hybrid:-1", "hybrid:x", "Full"] {
             assert!(bad.parse::<BranchingArg>().is_err(), "{bad}");
         }
-        for bad in ["hero:0", "hero", "some"] {
+        for bad in [
+            "hero:0", "hero", "some", "all/0", "all/", "hero:3/x", "/2", "all/2/2",
+        ] {
             assert!(bad.parse::<Spectral>().is_err(), "{bad}");
         }
         assert_eq!(
@@ -404,33 +474,39 @@ mod tests {
 
     #[test]
     fn stratum_weights_weigh_every_wavelength_equally() {
-        // Counting the samples directly: offset o's samples times its weight
-        // add up to the pixel's sample count, for any count and start.
+        // Counting the samples directly: stratum o's traced samples times
+        // its weight add up to the pixel's sample count, for any count,
+        // start and share of samples that trace colour.
         for stride in 1..9usize {
             for first in 0..stride {
                 for total in 1..40u32 {
-                    let w = stratum_weights(stride, first, total, true);
-                    let mut sum = vec![0.0; stride];
-                    for j in 0..total as usize {
-                        let o = (first + j) % stride;
-                        sum[o] += w[o];
-                    }
-                    for (o, s) in sum.iter().enumerate() {
-                        if (total as usize) < stride {
-                            // Unbiased thinning: weight stride where traced.
-                            assert_eq!(w[o], stride as f64);
-                        } else {
-                            assert!(
-                                (s - total as f64).abs() < 1e-9,
-                                "{stride} {first} {total} {o}"
-                            );
+                    for every in 1..4 {
+                        let traced = total.div_ceil(every);
+                        let w = stratum_weights(stride, first, traced, total, true);
+                        let mut sum = vec![0.0; stride];
+                        for j in 0..traced as usize {
+                            let o = (first + j) % stride;
+                            sum[o] += w[o];
+                        }
+                        for (o, s) in sum.iter().enumerate() {
+                            if (traced as usize) < stride {
+                                // Unbiased thinning: each stratum traced
+                                // with probability traced / stride.
+                                let p = traced as f64 / stride as f64;
+                                assert!((w[o] * p - total as f64).abs() < 1e-9);
+                            } else {
+                                assert!(
+                                    (s - total as f64).abs() < 1e-9,
+                                    "{stride} {first} {total} {every} {o}"
+                                );
+                            }
+                        }
+                        if every == 1 && total as usize % stride == 0 {
+                            assert!(w.iter().all(|&x| x == stride as f64));
                         }
                     }
-                    if total as usize % stride == 0 {
-                        assert!(w.iter().all(|&x| x == stride as f64));
-                    }
                 }
-                assert!(stratum_weights(stride, first, 16, false)
+                assert!(stratum_weights(stride, first, 16, 16, false)
                     .iter()
                     .all(|&x| x == stride as f64));
             }
@@ -438,11 +514,29 @@ mod tests {
     }
 
     #[test]
+    fn colour_is_traced_on_the_first_samples() {
+        let s = |every| Spectral {
+            every,
+            ..Spectral::hero(7)
+        };
+        assert_eq!(s(1).colour_samples(16), 16);
+        assert_eq!(s(2).colour_samples(32), 16);
+        assert_eq!(s(3).colour_samples(16), 6);
+        assert_eq!(s(4).colour_samples(1), 1);
+        assert!(!Spectral::ALL.thins());
+        assert!(Spectral {
+            every: 2,
+            ..Spectral::ALL
+        }
+        .thins());
+    }
+
+    #[test]
     fn strides_cover_every_wavelength_once() {
         // Stride s over n wavelengths: offsets 0..s partition 0..n.
         for n in 1..40 {
             for k in 1..8 {
-                let s = Spectral::Hero { per_sample: k }.stride(n);
+                let s = Spectral::hero(k).stride(n);
                 let mut seen = vec![0; n];
                 for offset in 0..s {
                     let traced: Vec<usize> = (offset..n).step_by(s).collect();

@@ -65,7 +65,7 @@ pub struct RenderOptions {
     /// Branch strategy, polarization model, spectral sampling, dispersion.
     pub approx: Approximations,
     /// The first `colour_lambdas` entries of `lambdas` are the colour
-    /// modes' set, which [`approx::Spectral::Hero`] thins out; the others
+    /// modes' set, which [`approx::Spectral`] may thin out; the others
     /// (a single-wavelength mode's) are traced for every sample.
     pub colour_lambdas: usize,
     /// Adaptive sampling (off: every pixel takes `samples` samples).
@@ -130,23 +130,25 @@ fn band_nm(colour: &[f64], i: usize) -> f64 {
     }
 }
 
-/// For each offset of the rotating wavelength strata, the batches to trace:
-/// each geometry group restricted to the wavelengths traced at that offset
-/// (colour wavelengths `i` with `i % stride == offset`, and every other
-/// wavelength), with their indices. Empty batches are dropped.
+/// For each colour stratum, the batches to trace: each geometry group
+/// restricted to the wavelengths traced with that stratum (colour
+/// wavelengths `i` with `i % stride == stratum`, and every other
+/// wavelength), with their indices; then, at index `stride`, the batches
+/// of a sample that traces no colour (`/N`: the other wavelengths only).
+/// Empty batches are dropped.
 type Batches = Vec<Vec<(Vec<usize>, Vec<WavelengthMedia>)>>;
 
-fn batches_by_offset(scene: &Scene, opts: &RenderOptions, stride: usize) -> Batches {
+fn batches_by_stratum(scene: &Scene, opts: &RenderOptions, stride: usize) -> Batches {
     let groups = geometry_groups(scene, opts);
-    (0..stride)
-        .map(|offset| {
+    (0..=stride)
+        .map(|stratum| {
             groups
                 .iter()
                 .filter_map(|(idx, batch)| {
                     let (i, m): (Vec<usize>, Vec<WavelengthMedia>) = idx
                         .iter()
                         .zip(batch)
-                        .filter(|(&i, _)| i >= opts.colour_lambdas || i % stride == offset)
+                        .filter(|(&i, _)| i >= opts.colour_lambdas || i % stride == stratum)
                         .map(|(&i, m)| (i, m.clone()))
                         .unzip();
                     (!i.is_empty()).then_some((i, m))
@@ -311,8 +313,9 @@ pub fn render_part(
         spec.region
     );
     let colour = opts.colour_lambdas.min(opts.lambdas.len());
-    let stride = opts.approx.spectral.stride(colour);
-    let batches = batches_by_offset(scene, opts, stride);
+    let spectral = opts.approx.spectral;
+    let stride = spectral.stride(colour);
+    let batches = batches_by_stratum(scene, opts, stride);
     let tracer = Tracer::new(scene, accel, opts.tree).with_strategy(opts.approx.strategy);
     // Sum each sample as it is where one sample alone may be unphysical.
     let linear = tracer.estimates_may_be_unphysical();
@@ -386,7 +389,7 @@ pub fn render_part(
                     // Samples this pixel took when adaptive sampling
                     // stopped it early.
                     let mut stopped_at = None;
-                    // The strata's offset of sample 0: random per pixel,
+                    // The colour stratum of sample 0: random per pixel,
                     // then rotating, so any `stride` consecutive samples
                     // trace every colour wavelength once.
                     let first = if stride > 1 {
@@ -399,16 +402,23 @@ pub fn render_part(
                     } else {
                         0
                     };
-                    // A pixel that may stop early does not know its sample
+                    // The first `traced` samples trace colour (`/N`). A
+                    // pixel that may stop early does not know its sample
                     // count, so it weighs by the stride.
-                    let weights = approx::stratum_weights(stride, first, total, measure.is_none());
+                    let traced = spectral.colour_samples(total);
+                    let weights =
+                        approx::stratum_weights(stride, first, traced, total, measure.is_none());
                     for sample in spec.samples.start..spec.samples.end {
                         let key = SampleKey {
                             seed: opts.seed,
                             pixel: y as u64 * w as u64 + x as u64,
                             sample,
                         };
-                        let offset = (first + sample as usize) % stride;
+                        let stratum = if sample < traced {
+                            (first + sample as usize) % stride
+                        } else {
+                            stride
+                        };
                         let (jx, jy) = match camera.sampling {
                             camera::PixelSampling::Jittered => key.pixel_position(),
                             camera::PixelSampling::Center => (0.5, 0.5),
@@ -421,13 +431,13 @@ pub fn render_part(
                             len: 1,
                         };
                         acc.push_with(leaf, |v| {
-                            for (idx, batch) in &batches[offset] {
+                            for (idx, batch) in &batches[stratum] {
                                 let out = &mut out[..idx.len()];
                                 tracer.trace_camera(eye, d, [bx, by], batch, &key, out, &mut stats);
                                 for (&i, j) in idx.iter().zip(out.iter()) {
                                     // A thinned-out colour wavelength stands
                                     // for the samples that do not trace it.
-                                    let w = if i < colour { weights[offset] } else { 1.0 };
+                                    let w = if i < colour { weights[stratum] } else { 1.0 };
                                     let j = match &camera.analyzer {
                                         Some(a) => j.transform(a),
                                         None => *j,

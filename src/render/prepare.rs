@@ -4,7 +4,6 @@
 //! The command line, tests and benchmarks all prepare renders here, so
 //! that a scene's settings reach the renderer one way.
 
-use super::approx::Spectral;
 use super::integrator::TreeSettings;
 use super::output::OutputMode;
 use super::world::Scene;
@@ -103,7 +102,7 @@ pub fn check_backend(kind: AccelKind, isa: Option<&str>) -> Result<(), PrepareEr
 pub fn lambdas(scene: &Scene, modes: &[OutputMode], mono_nm: f64) -> Vec<f64> {
     let same = |a: f64, b: f64| (a - b).abs() < 1e-9;
     let mono = modes.iter().any(|m| !m.is_spectral());
-    let hero = scene.settings.approx.spectral != Spectral::All;
+    let hero = scene.settings.approx.spectral.thins();
     let mut lambdas: Vec<f64> = Vec::new();
     if modes.iter().any(|m| m.needs_colour()) {
         lambdas.extend(

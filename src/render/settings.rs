@@ -154,6 +154,7 @@ pub enum Field {
     Roulette,
     Adaptive,
     MinSamples,
+    Spectral,
 }
 
 /// A refused setting: where it came from, which field, and why.
@@ -379,6 +380,43 @@ pub fn resolve(base: Settings, layers: &[&SettingsLayer]) -> Result<Settings, Se
             ),
         });
     }
+    // Colour on the first ⌈S/N⌉ samples needs S known up front; a pixel
+    // that adaptive sampling may stop early does not know it.
+    if s.render.approx.spectral.every > 1 && s.render.adaptive.is_on() {
+        let blame = layers.iter().rev().find_map(|l| {
+            l.spectral
+                .as_ref()
+                .filter(|v| v.value.every > 1)
+                .map(|v| (v.origin.clone(), Field::Spectral))
+                .or_else(|| {
+                    l.adaptive
+                        .as_ref()
+                        .filter(|a| a.value > 0.0)
+                        .map(|a| (a.origin.clone(), Field::Adaptive))
+                })
+        });
+        let (origin, field) = blame.unwrap_or((Origin::Flag("--spectral".into()), Field::Spectral));
+        let (spectral, noise) = (s.render.approx.spectral, s.render.adaptive.noise);
+        let every = spectral.every;
+        let message = if field == Field::Spectral {
+            format!(
+                "{spectral} traces colour on the first 1/{every} of each pixel's samples, which \
+                 needs each pixel's sample count known up front, and adaptive sampling \
+                 (adaptive = {noise}) stops pixels early: use one or the other"
+            )
+        } else {
+            format!(
+                "{noise} stops pixels early, and spectral = {spectral} (colour on the first \
+                 1/{every} of each pixel's samples) needs each pixel's sample count known up \
+                 front: use one or the other"
+            )
+        };
+        return Err(SettingsError {
+            origin,
+            field,
+            message,
+        });
+    }
     Ok(s)
 }
 
@@ -407,6 +445,53 @@ mod tests {
 
     fn one(layer: SettingsLayer) -> String {
         layer.check().unwrap_err().to_string()
+    }
+
+    #[test]
+    fn colour_on_the_first_samples_is_refused_with_adaptive_sampling() {
+        let every_2 = Spectral {
+            every: 2,
+            ..Spectral::hero(7)
+        };
+        let scene = SettingsLayer {
+            adaptive: Some(Set::new(0.01, file("render.adaptive"))),
+            ..Default::default()
+        };
+        let flags = SettingsLayer {
+            spectral: Some(Set::new(every_2, flag("--spectral"))),
+            ..Default::default()
+        };
+        // The later layer's setting is blamed.
+        let e = resolve(Settings::defaults(), &[&scene, &flags]).unwrap_err();
+        assert_eq!(e.field, Field::Spectral);
+        assert!(
+            e.to_string().starts_with(
+                "--spectral hero:7/2 traces colour on the first 1/2 of each pixel's samples"
+            ),
+            "{e}"
+        );
+        let scene = SettingsLayer {
+            spectral: Some(Set::new(every_2, file("render.spectral"))),
+            ..Default::default()
+        };
+        let flags = SettingsLayer {
+            adaptive: Some(Set::new(0.01, flag("--adaptive"))),
+            ..Default::default()
+        };
+        let e = resolve(Settings::defaults(), &[&scene, &flags]).unwrap_err();
+        assert_eq!(e.field, Field::Adaptive);
+        assert!(
+            e.to_string()
+                .starts_with("--adaptive 0.01 stops pixels early, and spectral = hero:7/2"),
+            "{e}"
+        );
+        // Either alone, or adaptive sampling with hero:7, is fine.
+        assert!(resolve(Settings::defaults(), &[&scene]).is_ok());
+        let hero = SettingsLayer {
+            spectral: Some(Set::new(Spectral::hero(7), file("render.spectral"))),
+            ..Default::default()
+        };
+        assert!(resolve(Settings::defaults(), &[&hero, &flags]).is_ok());
     }
 
     #[test]
@@ -521,10 +606,7 @@ mod tests {
             max_depth: Some(Set::new(13, file("render.max_depth"))),
             prune: Some(Set::new(1e-2, file("render.prune"))),
             seed: Some(Set::new(5, file("render.seed"))),
-            spectral: Some(Set::new(
-                Spectral::Hero { per_sample: 3 },
-                file("render.spectral"),
-            )),
+            spectral: Some(Set::new(Spectral::hero(3), file("render.spectral"))),
             ..Default::default()
         };
         let preset = SettingsLayer {
@@ -549,7 +631,7 @@ mod tests {
         assert_eq!(s.render.max_depth, 30);
         assert_eq!(s.render.prune, 1e-6);
         assert_eq!(s.render.seed, 5);
-        assert_eq!(s.render.approx.spectral, Spectral::Hero { per_sample: 3 });
+        assert_eq!(s.render.approx.spectral, Spectral::hero(3));
         assert_eq!(s.render.approx.dispersion, DispersionMode::Off);
         assert_eq!(
             s.render.approx.strategy.coherence,

@@ -319,7 +319,7 @@ pub struct RenderDef {
     pub branching: Option<Spanned<String>>,
     /// `full` or `scalar`.
     pub polarization: Option<Spanned<String>>,
-    /// `all` or `hero:K`.
+    /// `all` or `hero:K`, either optionally followed by `/N`.
     pub spectral: Option<Spanned<String>>,
     /// `true`/`false`, or `"on"`, `"off"`, `"bands:K"` (checked in
     /// `Scene::parse`, which names what it takes).

@@ -188,8 +188,25 @@ fn hero_wavelengths_are_exact_where_every_sample_sees_the_same_light() {
     // the samples that trace it) is the full spectrum's, for any sample
     // count of at least the stride: 14 samples are 2 rounds of stride 7,
     // and 9 and 16 are not whole rounds (each wavelength traced 1-2 or 2-3
-    // times: weighting by the stride alone would miss by up to 1/3).
-    for samples in [14u32, 9, 16] {
+    // times: weighting by the stride alone would miss by up to 1/3). With
+    // `/2` colour is traced on the first half of the samples (7 or 8 of
+    // 14 or 16 for `hero:3/2`, 2 of 3 for `all/2`).
+    let hero_every_2 = Spectral {
+        every: 2,
+        ..Spectral::hero(3)
+    };
+    let all_every_2 = Spectral {
+        every: 2,
+        ..Spectral::ALL
+    };
+    for (spectral, samples) in [
+        (Spectral::hero(3), 14u32),
+        (Spectral::hero(3), 9),
+        (Spectral::hero(3), 16),
+        (hero_every_2, 14),
+        (hero_every_2, 16),
+        (all_every_2, 3),
+    ] {
         let toml = format!(
             r#"
 [camera]
@@ -207,10 +224,16 @@ radiance = 1.0
         let (mut scene, _d) = scene(&toml, &[]);
         let lambdas: Vec<f64> = (0..21).map(|i| 380.0 + 20.0 * i as f64).collect();
         let (all, _) = render_at(&scene, &lambdas);
-        scene.settings.approx.spectral = Spectral::Hero { per_sample: 3 };
+        scene.settings.approx.spectral = spectral;
         let (hero, stats) = render_at(&scene, &lambdas);
-        // 21 wavelengths, 3 per sample: stride 7.
-        assert_eq!(stats.rays, 16 * samples as u64, "one camera ray per sample");
+        // 21 wavelengths, 3 per sample: stride 7. Samples without colour
+        // trace nothing here (no single-wavelength mode): one camera ray
+        // per colour sample, ⌈S/N⌉ per pixel.
+        assert_eq!(
+            stats.rays,
+            16 * samples.div_ceil(spectral.every) as u64,
+            "{spectral}"
+        );
         for y in 0..4 {
             for x in 0..4 {
                 for i in 0..21 {
@@ -219,7 +242,7 @@ radiance = 1.0
                     // inexact weight (16/3): a few f32 roundings.
                     assert!(
                         (a - h).abs() <= 4.0 * f32::EPSILON as f64 * a,
-                        "{samples} samples: {a} vs {h}"
+                        "{spectral}, {samples} samples: {a} vs {h}"
                     );
                 }
             }
@@ -261,9 +284,13 @@ fn sampled_knobs_are_unbiased_through_the_driver() {
     let axis = "optic_axis = [0.3, 0.2, 1.0]";
     let (scene, _d) = scene(&gem("calcite", axis, 16, 7), &[]);
     let (exact, full_stats) = render_at(&scene, &LAMBDAS);
-    let knobs: [Knob; 3] = [
-        ("hero:2", |s| {
-            s.settings.approx.spectral = Spectral::Hero { per_sample: 2 }
+    let knobs: [Knob; 4] = [
+        ("hero:2", |s| s.settings.approx.spectral = Spectral::hero(2)),
+        ("hero:2/2", |s| {
+            s.settings.approx.spectral = Spectral {
+                every: 2,
+                ..Spectral::hero(2)
+            }
         }),
         ("stochastic", |s| {
             s.settings.approx.strategy.branching = Branching::Stochastic
@@ -305,6 +332,8 @@ fn hero_sampling_never_thins_out_a_single_wavelength_mode() {
             .args([
                 "--resolution",
                 "16x16",
+                "--samples",
+                "8",
                 "--mode",
                 "color,dop",
                 "--raw",
@@ -323,18 +352,21 @@ fn hero_sampling_never_thins_out_a_single_wavelength_mode() {
         spar::image::read(&out).unwrap()
     };
     let all = raw("all.exr", &[]);
-    let hero = raw("hero.exr", &["--spectral", "hero:3"]);
-    for c in 0..4 {
-        let name = format!("S{c}_580nm");
-        assert_eq!(
-            all.channel(&name).unwrap(),
-            hero.channel(&name).unwrap(),
-            "{name}"
+    for (i, spectral) in ["hero:3", "hero:3/2", "all/4"].into_iter().enumerate() {
+        let hero = raw(&format!("hero{i}.exr"), &["--spectral", spectral]);
+        for c in 0..4 {
+            let name = format!("S{c}_580nm");
+            assert_eq!(
+                all.channel(&name).unwrap(),
+                hero.channel(&name).unwrap(),
+                "{spectral}: {name}"
+            );
+        }
+        // The thinned colour wavelengths do differ.
+        assert_ne!(
+            all.channel("S0_600nm").unwrap(),
+            hero.channel("S0_600nm").unwrap(),
+            "{spectral}"
         );
     }
-    // The thinned colour wavelengths do differ.
-    assert_ne!(
-        all.channel("S0_600nm").unwrap(),
-        hero.channel("S0_600nm").unwrap()
-    );
 }

@@ -224,7 +224,7 @@ mod tests {
         let c = &c.overrides;
         assert_eq!(c.max_depth, Some(8));
         assert_eq!(c.prune, Some(1e-2));
-        assert_eq!(c.spectral, Some(Spectral::Hero { per_sample: 3 }));
+        assert_eq!(c.spectral, Some(Spectral::hero(3)));
         assert_eq!(Config::parse("").unwrap().label, "scene");
         for bad in [
             "depth",
