@@ -295,3 +295,53 @@ fn rouletted_renders_split_any_way_merge_to_the_same_bits() {
     let merged = merge(&parts).unwrap();
     assert_eq!(bits(&merged.data), bits(&reference.data));
 }
+
+#[test]
+fn colour_on_the_first_samples_splits_any_way_and_merges_to_the_same_bits() {
+    // `hero:1/2`: which samples trace colour depends on the sample's index
+    // and the pixel's sample count only, so sample blocks (which know the
+    // count) merge as a one-machine render. 450 and 550 nm are the colour
+    // set (stride 2, colour on the first 3 of 5 samples), 650 nm a
+    // single-wavelength mode's, traced on every sample.
+    let (mut scene, _, dir) = setup();
+    scene.settings.approx.spectral = spar::render::approx::Spectral {
+        every: 2,
+        ..spar::render::approx::Spectral::hero(1)
+    };
+    let mut opts = prepare::options_at(&scene, scene.settings.wavelengths.lambdas().to_vec());
+    opts.colour_lambdas = 2;
+    let reference = part(&scene, &opts, PartSpec::whole(W, H, SAMPLES), 2, 16);
+    let info = RenderInfo::new(&scene, "scene.toml", opts.lambdas.clone(), 580.0, None);
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(21);
+    let tiles = random_tiling(&mut rng, Rect::full(W, H), 3);
+    let mut parts = Vec::new();
+    for (i, &region) in tiles.iter().enumerate() {
+        for (j, samples) in random_blocks(&mut rng, SAMPLES, 3).into_iter().enumerate() {
+            let p = part(&scene, &opts, PartSpec { region, samples }, 2, 4);
+            let path = dir.path().join(format!("c{i}-{j}.exr"));
+            let image = part_image(&p, &info).unwrap();
+            spar::image::write(&path, &image, spar::image::WriteOptions::default()).unwrap();
+            parts.push(read_part(&path).unwrap());
+        }
+    }
+    assert!(
+        parts.len() > tiles.len(),
+        "some region split into sample blocks"
+    );
+    let merged = merge(&parts).unwrap();
+    assert_eq!(bits(&merged.data), bits(&reference.data));
+    // The 650 nm channels are the unthinned render's, bit for bit.
+    let mut all = scene.clone();
+    all.settings.approx.spectral = spar::render::approx::Spectral::ALL;
+    let plain = part(&all, &opts, PartSpec::whole(W, H, SAMPLES), 2, 16);
+    let nch = opts.lambdas.len() * 4;
+    let mono = |d: &[f32]| -> Vec<u32> {
+        d.chunks_exact(nch)
+            .flat_map(|px| bits(&px[8..12]))
+            .collect()
+    };
+    assert!(
+        mono(&reference.data) == mono(&plain.data),
+        "the 650 nm channels differ from the unthinned render's"
+    );
+}
