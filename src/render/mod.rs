@@ -35,6 +35,15 @@ pub mod tilt;
 pub mod world;
 
 use crate::accel::Intersector;
+
+/// The version of the images spar renders: raised by one whenever a change
+/// moves some render's values beyond f32 rounding (physics, sampling,
+/// defaults). `tests/render/render_image_version.rs` keeps small renders of
+/// the seed scenes stored with this number and fails when a render leaves
+/// them, so it cannot be forgotten. A `spar speed-error` reference names
+/// it, not the git version, so references stay valid across changes that
+/// leave the images alone (refactors, speed-ups).
+pub const IMAGE_VERSION: u32 = 1;
 use crate::optics::Coherence;
 use adaptive::{NoiseMeasure, PixelNoise};
 use approx::{Approximations, DispersionMode};

@@ -17,6 +17,7 @@ mod render_coherence;
 mod render_convex;
 mod render_furnace;
 mod render_hard_cases;
+mod render_image_version;
 mod render_lighting;
 mod render_lost_light;
 mod render_model_only_needed;

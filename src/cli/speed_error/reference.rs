@@ -368,10 +368,10 @@ fn reference_identity(
     };
     let paired = if paired { " paired" } else { "" };
     format!(
-        "scene={} config={} lambdas={lambdas:?}{rows}{paired} version={}",
+        "scene={} config={} lambdas={lambdas:?}{rows}{paired} images={}",
         scene_hash(scene),
         config.label,
-        crate::VERSION
+        crate::render::IMAGE_VERSION
     )
 }
 
@@ -416,7 +416,8 @@ fn save_reference(path: &Path, parts: &[Film], identity: &str) -> Result<(), Cli
     let samples: Vec<String> = parts.iter().map(|f| f.samples.to_string()).collect();
     let img = Image::new(a.width as usize, a.height as usize, channels, data)?
         .with_metadata(REFERENCE_KEY, identity)
-        .with_metadata("spar:samples", samples.join(","));
+        .with_metadata("spar:samples", samples.join(","))
+        .with_metadata("spar:rendered_by", crate::VERSION);
     image::write(path, &img, WriteOptions::new(PixelType::F32))?;
     Ok(())
 }
