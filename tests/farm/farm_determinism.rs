@@ -279,21 +279,38 @@ fn rouletted_renders_split_any_way_merge_to_the_same_bits() {
     );
     let p = part(&scene, &opts, PartSpec::whole(W, H, SAMPLES), 1, 3);
     assert_eq!(bits(&p.data), bits(&reference.data), "1 thread, tiles of 3");
-    let info = RenderInfo::new(&scene, "scene.toml", opts.lambdas.clone(), 580.0, None);
-    let mut rng = rand_pcg::Pcg64::seed_from_u64(13);
+    let (parts, _) = split_through_files(&scene, &opts, dir.path(), 13, 2);
+    let merged = merge(&parts).unwrap();
+    assert_eq!(bits(&merged.data), bits(&reference.data));
+}
+
+/// The render cut into 3 random regions, each into up to `blocks` random
+/// sample blocks, every part written to an EXR in `dir` and read back (rng
+/// seeded with `seed`); the parts and the number of regions.
+fn split_through_files(
+    scene: &Scene,
+    opts: &RenderOptions,
+    dir: &std::path::Path,
+    seed: u64,
+    blocks: usize,
+) -> (Vec<spar::farm::part::LoadedPart>, usize) {
+    let info = RenderInfo::new(scene, "scene.toml", opts.lambdas.clone(), 580.0, None);
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(seed);
     let tiles = random_tiling(&mut rng, Rect::full(W, H), 3);
     let mut parts = Vec::new();
     for (i, &region) in tiles.iter().enumerate() {
-        for (j, samples) in random_blocks(&mut rng, SAMPLES, 2).into_iter().enumerate() {
-            let p = part(&scene, &opts, PartSpec { region, samples }, 2, 4);
-            let path = dir.path().join(format!("r{i}-{j}.exr"));
+        for (j, samples) in random_blocks(&mut rng, SAMPLES, blocks)
+            .into_iter()
+            .enumerate()
+        {
+            let p = part(scene, opts, PartSpec { region, samples }, 2, 4);
+            let path = dir.join(format!("s{seed}-{i}-{j}.exr"));
             let image = part_image(&p, &info).unwrap();
             spar::image::write(&path, &image, spar::image::WriteOptions::default()).unwrap();
             parts.push(read_part(&path).unwrap());
         }
     }
-    let merged = merge(&parts).unwrap();
-    assert_eq!(bits(&merged.data), bits(&reference.data));
+    (parts, tiles.len())
 }
 
 #[test]
@@ -311,21 +328,9 @@ fn colour_on_the_first_samples_splits_any_way_and_merges_to_the_same_bits() {
     let mut opts = prepare::options_at(&scene, scene.settings.wavelengths.lambdas().to_vec());
     opts.colour_lambdas = 2;
     let reference = part(&scene, &opts, PartSpec::whole(W, H, SAMPLES), 2, 16);
-    let info = RenderInfo::new(&scene, "scene.toml", opts.lambdas.clone(), 580.0, None);
-    let mut rng = rand_pcg::Pcg64::seed_from_u64(21);
-    let tiles = random_tiling(&mut rng, Rect::full(W, H), 3);
-    let mut parts = Vec::new();
-    for (i, &region) in tiles.iter().enumerate() {
-        for (j, samples) in random_blocks(&mut rng, SAMPLES, 3).into_iter().enumerate() {
-            let p = part(&scene, &opts, PartSpec { region, samples }, 2, 4);
-            let path = dir.path().join(format!("c{i}-{j}.exr"));
-            let image = part_image(&p, &info).unwrap();
-            spar::image::write(&path, &image, spar::image::WriteOptions::default()).unwrap();
-            parts.push(read_part(&path).unwrap());
-        }
-    }
+    let (parts, regions) = split_through_files(&scene, &opts, dir.path(), 21, 3);
     assert!(
-        parts.len() > tiles.len(),
+        parts.len() > regions,
         "some region split into sample blocks"
     );
     let merged = merge(&parts).unwrap();
