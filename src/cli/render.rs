@@ -192,6 +192,22 @@ struct Job {
     raw: bool,
 }
 
+/// With colour on the first ⌈S/N⌉ samples (`spectral = …/N`) and no
+/// single-wavelength mode, the other samples trace nothing: said, since
+/// fewer samples would give the same image sooner.
+fn idle_samples_note(options: &RenderOptions) -> Option<String> {
+    let spectral = options.approx.spectral;
+    let traced = spectral.colour_samples(options.samples);
+    (options.colour_lambdas >= options.lambdas.len() && traced < options.samples).then(|| {
+        format!(
+            "spectral = {spectral} traces colour on {traced} of {} samples per pixel and no \
+             single-wavelength mode uses the others, so they trace nothing (`/N` pays with \
+             dop, mono, ellipticity, … rendered beside colour)",
+            options.samples
+        )
+    })
+}
+
 pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let started = Instant::now();
     let job = checked_job(args)?;
@@ -205,6 +221,11 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let reporter = Reporter::new(progress_mode);
     let options = prepare::options(&job.scene, &job.traced, job.mono_nm, reporter.wants_bar());
     debug_assert_eq!(options.lambdas, lambdas);
+    if let Some(n) = idle_samples_note(&options) {
+        if !args.quiet {
+            eprintln!("spar: note: {}: {n}", job.label);
+        }
+    }
     let ckpt = Checkpoint::new(args, &job, &info, &options);
     let resume = ckpt.resume(args, &reporter)?;
     let done = render(args, &job, &options, &ckpt, resume, &reporter)?;

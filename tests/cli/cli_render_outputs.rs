@@ -79,3 +79,42 @@ fn stokes_exr_reads_back_by_name_with_metadata_and_physical_values() {
     let dop = spar::image::read(&dir.path().join("out-dop.png")).unwrap();
     assert!(dop.channel("R").unwrap().iter().all(|&v| v > 0.99));
 }
+
+#[test]
+fn colour_on_the_first_samples_says_when_the_other_samples_trace_nothing() {
+    // `all/2` with colour alone: samples 3 and 4 of 4 trace nothing, which
+    // is said; beside dop they trace 580 nm, and nothing is said.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("s.toml"), SCENE).unwrap();
+    let run = |modes: &str| {
+        let out = Command::new(env!("CARGO_BIN_EXE_spar"))
+            .args([
+                "render",
+                "s.toml",
+                "--mode",
+                modes,
+                "--spectral",
+                "all/2",
+                "--samples",
+                "4",
+                "-o",
+                "o.png",
+            ])
+            .current_dir(dir.path())
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stderr).to_string()
+    };
+    let alone = run("color");
+    assert!(
+        alone.contains("note: s.toml: spectral = all/2 traces colour on 2 of 4 samples"),
+        "{alone}"
+    );
+    let beside = run("color,dop");
+    assert!(!beside.contains("trace nothing"), "{beside}");
+}
