@@ -18,27 +18,26 @@ corners = [[-2.0, -2.0, 0.0], [2.0, -2.0, 0.0], [2.0, 2.0, 0.0], [-2.0, 2.0, 0.0
 polarization = { linear = [0.0, 1.0, 0.0] }
 "#;
 
+/// `spar render s.toml ARGS` in `dir`, which must succeed: its stderr.
+fn render_ok(dir: &std::path::Path, args: &[&str]) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_spar"))
+        .args(["render", "s.toml"])
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(out.status.success(), "{stderr}");
+    stderr
+}
+
 #[test]
 fn stokes_exr_reads_back_by_name_with_metadata_and_physical_values() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("s.toml"), SCENE).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_spar"))
-        .args([
-            "render",
-            "s.toml",
-            "--mode",
-            "stokes,dop,color",
-            "-o",
-            "out.png",
-            "-q",
-        ])
-        .current_dir(dir.path())
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    render_ok(
+        dir.path(),
+        &["--mode", "stokes,dop,color", "-o", "out.png", "-q"],
     );
     for f in ["out-stokes.exr", "out-dop.png", "out-color.png"] {
         assert!(dir.path().join(f).exists(), "{f} missing");
@@ -87,28 +86,17 @@ fn colour_on_the_first_samples_says_when_the_other_samples_trace_nothing() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("s.toml"), SCENE).unwrap();
     let run = |modes: &str| {
-        let out = Command::new(env!("CARGO_BIN_EXE_spar"))
-            .args([
-                "render",
-                "s.toml",
-                "--mode",
-                modes,
-                "--spectral",
-                "all/2",
-                "--samples",
-                "4",
-                "-o",
-                "o.png",
-            ])
-            .current_dir(dir.path())
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        String::from_utf8_lossy(&out.stderr).to_string()
+        let args = [
+            "--mode",
+            modes,
+            "--spectral",
+            "all/2",
+            "--samples",
+            "4",
+            "-o",
+            "o.png",
+        ];
+        render_ok(dir.path(), &args)
     };
     let alone = run("color");
     assert!(
