@@ -313,6 +313,79 @@ def write_csv(rows, path):
                     + "\n")
 
 
+def mitsuba_points(args, mi_spp, extra_spp, scalar_spp, add, mask, ref_dop, ref_noise, cal, mi):
+    """Mitsuba's points (rendered, each added with `add`), its agreement
+    with the reference and spar's depth bias at Mitsuba's depths."""
+    configs = dict(MITSUBA_CONFIGS)
+    if scalar_spp:
+        configs["scalar-spectral depth13 rr5"] = SCALAR_CONFIG
+    mi_runs = {}
+    for label, (variant, depth, rr) in configs.items():
+        spps = scalar_spp if variant.startswith("scalar") else mi_spp
+        renders = [(s, seed) for s in spps for seed in range(args.runs)]
+        if label == next(iter(MITSUBA_CONFIGS)):
+            spps = spps + extra_spp
+            renders += [(s, 0) for s in extra_spp]
+        tag = label.replace(" ", "_")
+        info, res = run_worker(dict(variant=variant, threads=args.threads, workdir=args.out, res=args.res,
+                                    max_depth=depth, rr_depth=rr, renders=renders, tag=tag))
+        print(f"Mitsuba {variant}, max_depth {depth}, rr_depth {rr}: JIT {info['jit']:.2f} s CPU "
+              f"(first 1-spp render {info['cold']:.2f} s, second {info['warm']:.3f} s)")
+        for s in spps:
+            rs = [r for r in res if r["spp"] == s]
+            imgs = [np.load(r["npy"]) for r in rs]
+            mi_runs[(label, s)] = imgs
+            add("mitsuba", label, s, [r["cpu"] for r in rs], [rmse(dop(i), ref_dop, mask) for i in imgs],
+                info["jit"], rs[0]["passes"])
+
+    # Agreement of the reference with Mitsuba's largest render.
+    label0 = next(iter(MITSUBA_CONFIGS))
+    top = [mi_runs[(label0, mi_spp[-1])][k] for k in range(args.runs)]
+    if len(top) >= 2:
+        mi_noise = rmse(dop(top[0]), dop(top[1]), mask) / math.sqrt(2)  # one run's noise
+        e_mean = rmse(dop(np.mean(top, axis=0)), ref_dop, mask)
+        expect = math.sqrt(mi_noise ** 2 / len(top) + ref_noise ** 2)
+        print(f"agreement: Mitsuba {label0} {mi_spp[-1]} spp, mean of {len(top)} seeds, against the reference: "
+              f"DoP RMSE {e_mean:.5f}; noise alone would give {expect:.5f} (Mitsuba's {mi_noise:.5f} per run, "
+              f"the reference's {ref_noise:.5f}): ratio {e_mean / expect:.2f}")
+        bias = np.mean((dop(np.mean(top, axis=0)) - ref_dop)[mask])
+        print(f"           mean DoP difference (Mitsuba − reference) {bias:+.5f}")
+
+    # spar's paired depth bias at the depths the Mitsuba configs use.
+    for depth in sorted({d for _, d, _ in MITSUBA_CONFIGS.values() if d - 1 != xc.SPAR_MAX_DEPTH}):
+        # Paired: the same seed, so the same sample positions. Over the mask's
+        # pixels whose S0 in this render also exceeds the threshold (an
+        # edge pixel whose few samples all missed the light keeps only
+        # deep paths' light, where DoP is a ratio of two tiny sums).
+        a, _ = run_spar(args, "bias_full", 64, 7, [])
+        b, _ = run_spar(args, f"bias_depth{depth - 1}", 64, 7, ["--max-depth", str(depth - 1)])
+        sa, sb = xc.stokes(mi, a, "spar"), xc.stokes(mi, b, "spar")
+        m = mask & (sa[0] / cal > args.threshold)
+        e = rmse(dop(sa), dop(sb), m)
+        print(f"depth bias: Mitsuba max_depth {depth} = spar depth {depth - 1}, whose DoP differs from depth "
+              f"{xc.SPAR_MAX_DEPTH}'s by RMSE {e:.5f} (paired, 64 spp, same seed, {int(m.sum())} pixels)")
+
+
+def read_rows(path):
+    """The point columns of a CSV this script wrote (the ratio columns are
+    recomputed)."""
+    skip = ("mitsuba_best_config", "mitsuba_cpu_at_equal_error", "extrapolated")
+    with open(path) as f:
+        head = f.readline().strip().split(",")
+        rows = []
+        for line in f:
+            r = {}
+            for k, v in zip(head, line.strip().split(",")):
+                if k.startswith("ratio") or k in skip:
+                    continue
+                try:
+                    r[k] = int(v) if k in ("spp", "runs", "passes") else float(v)
+                except ValueError:
+                    r[k] = v
+            rows.append(r)
+    return rows
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--worker", help=argparse.SUPPRESS)
@@ -335,6 +408,10 @@ def main():
     ap.add_argument("--csv", default=None, help="CSV of every point (default OUT/mitsuba-glass.csv)")
     ap.add_argument("--from-csv", help="no rendering: print the ratios of a CSV this script wrote "
                     "(and rewrite them into --csv if given)")
+    ap.add_argument("--mitsuba-from-csv",
+                    help="render only spar (and the reference): take Mitsuba's points from a CSV this "
+                         "script wrote against the same reference settings (valid while spar's "
+                         "reference images are unchanged: same --res, --ref-spp and image version)")
     ap.add_argument("--reuse-reference", action="store_true",
                     help="reuse the reference halves in --out (same --res and --ref-spp!)")
     args = ap.parse_args()
@@ -342,17 +419,7 @@ def main():
         worker(json.loads(args.worker))
         return 0
     if args.from_csv:
-        with open(args.from_csv) as f:
-            head = f.readline().strip().split(",")
-            rows = []
-            for line in f:
-                r = {}
-                for k, v in zip(head, line.strip().split(",")):
-                    try:
-                        r[k] = int(v) if k in ("spp", "runs", "passes") else float(v)
-                    except ValueError:
-                        r[k] = v
-                rows.append(r)
+        rows = read_rows(args.from_csv)
         ratios(rows)
         if args.csv:
             write_csv(rows, args.csv)
@@ -412,55 +479,14 @@ def main():
               f"{f' + JIT {jit:.2f}' if jit else ''}  DoP RMSE {e:.5f} (net {r['dop_rmse_net']:.5f}; "
               f"{min(errs):.5f}..{max(errs):.5f})", flush=True)
 
-    # Mitsuba.
-    configs = dict(MITSUBA_CONFIGS)
-    if scalar_spp:
-        configs["scalar-spectral depth13 rr5"] = SCALAR_CONFIG
-    mi_runs = {}
-    for label, (variant, depth, rr) in configs.items():
-        spps = scalar_spp if variant.startswith("scalar") else mi_spp
-        renders = [(s, seed) for s in spps for seed in range(args.runs)]
-        if label == next(iter(MITSUBA_CONFIGS)):
-            spps = spps + extra_spp
-            renders += [(s, 0) for s in extra_spp]
-        tag = label.replace(" ", "_")
-        info, res = run_worker(dict(variant=variant, threads=args.threads, workdir=args.out, res=args.res,
-                                    max_depth=depth, rr_depth=rr, renders=renders, tag=tag))
-        print(f"Mitsuba {variant}, max_depth {depth}, rr_depth {rr}: JIT {info['jit']:.2f} s CPU "
-              f"(first 1-spp render {info['cold']:.2f} s, second {info['warm']:.3f} s)")
-        for s in spps:
-            rs = [r for r in res if r["spp"] == s]
-            imgs = [np.load(r["npy"]) for r in rs]
-            mi_runs[(label, s)] = imgs
-            add("mitsuba", label, s, [r["cpu"] for r in rs], [rmse(dop(i), ref_dop, mask) for i in imgs],
-                info["jit"], rs[0]["passes"])
-
-    # Agreement of the reference with Mitsuba's largest render.
-    label0 = next(iter(MITSUBA_CONFIGS))
-    top = [mi_runs[(label0, mi_spp[-1])][k] for k in range(args.runs)]
-    if len(top) >= 2:
-        mi_noise = rmse(dop(top[0]), dop(top[1]), mask) / math.sqrt(2)  # one run's noise
-        e_mean = rmse(dop(np.mean(top, axis=0)), ref_dop, mask)
-        expect = math.sqrt(mi_noise ** 2 / len(top) + ref_noise ** 2)
-        print(f"agreement: Mitsuba {label0} {mi_spp[-1]} spp, mean of {len(top)} seeds, against the reference: "
-              f"DoP RMSE {e_mean:.5f}; noise alone would give {expect:.5f} (Mitsuba's {mi_noise:.5f} per run, "
-              f"the reference's {ref_noise:.5f}): ratio {e_mean / expect:.2f}")
-        bias = np.mean((dop(np.mean(top, axis=0)) - ref_dop)[mask])
-        print(f"           mean DoP difference (Mitsuba − reference) {bias:+.5f}")
-
-    # spar's paired depth bias at the depths the Mitsuba configs use.
-    for depth in sorted({d for _, d, _ in MITSUBA_CONFIGS.values() if d - 1 != xc.SPAR_MAX_DEPTH}):
-        # Paired: the same seed, so the same sample positions. Over the mask's
-        # pixels whose S0 in this render also exceeds the threshold (an
-        # edge pixel whose few samples all missed the light keeps only
-        # deep paths' light, where DoP is a ratio of two tiny sums).
-        a, _ = run_spar(args, "bias_full", 64, 7, [])
-        b, _ = run_spar(args, f"bias_depth{depth - 1}", 64, 7, ["--max-depth", str(depth - 1)])
-        sa, sb = xc.stokes(mi, a, "spar"), xc.stokes(mi, b, "spar")
-        m = mask & (sa[0] / cal > args.threshold)
-        e = rmse(dop(sa), dop(sb), m)
-        print(f"depth bias: Mitsuba max_depth {depth} = spar depth {depth - 1}, whose DoP differs from depth "
-              f"{xc.SPAR_MAX_DEPTH}'s by RMSE {e:.5f} (paired, 64 spp, same seed, {int(m.sum())} pixels)")
+    if args.mitsuba_from_csv:
+        old = [r for r in read_rows(args.mitsuba_from_csv) if r["renderer"] == "mitsuba"]
+        if not old:
+            ap.error(f"{args.mitsuba_from_csv}: no Mitsuba rows")
+        print(f"Mitsuba: {len(old)} points from {args.mitsuba_from_csv} (not rendered)")
+        rows.extend(old)
+    else:
+        mitsuba_points(args, mi_spp, extra_spp, scalar_spp, add, mask, ref_dop, ref_noise, cal, mi)
 
     # spar.
     print("spar:")
