@@ -158,7 +158,7 @@ impl Spectral {
     }
 }
 
-/// Weight of each colour stratum's values in a pixel of `total` samples
+/// Weight of colour stratum `o`'s values in a pixel of `total` samples
 /// whose first `traced` samples trace colour, sample `j` the stratum
 /// `(first + j) % stride` (docs/physics.md §6.3): `total / n_o`, where
 /// `n_o` is how many of the traced samples trace stratum `o`, so each
@@ -169,28 +169,24 @@ impl Spectral {
 /// probability `traced / stride`) is the unbiased one; `exact_counts =
 /// false` (a pixel that may stop early, not knowing its sample count) asks
 /// for that weight too.
-pub fn stratum_weights(
+pub fn stratum_weight(
     stride: usize,
     first: usize,
     traced: u32,
     total: u32,
     exact_counts: bool,
-) -> Vec<f64> {
+    o: usize,
+) -> f64 {
     let (traced, total) = (traced as usize, total as f64);
     if !exact_counts || traced < stride {
-        return vec![stride as f64 * total / traced.max(1) as f64; stride];
+        return stride as f64 * total / traced.max(1) as f64;
     }
-    (0..stride)
-        .map(|o| {
-            // Samples j < traced with (first + j) % stride == o: one per
-            // full round of `stride`, and one more if o comes up in the
-            // last, partial round (its j = (o - first) mod stride is below
-            // the remainder).
-            let extra = ((o + stride - first % stride) % stride) < traced % stride;
-            let n = traced / stride + extra as usize;
-            total / n as f64
-        })
-        .collect()
+    // Samples j < traced with (first + j) % stride == o: one per full
+    // round of `stride`, and one more if o comes up in the last, partial
+    // round (its j = (o - first) mod stride is below the remainder).
+    let extra = ((o + stride - first % stride) % stride) < traced % stride;
+    let n = traced / stride + extra as usize;
+    total / n as f64
 }
 
 /// Which paths the wavelengths follow through dispersive media.
@@ -482,7 +478,9 @@ mod tests {
                 for total in 1..40u32 {
                     for every in 1..4 {
                         let traced = total.div_ceil(every);
-                        let w = stratum_weights(stride, first, traced, total, true);
+                        let w: Vec<f64> = (0..stride)
+                            .map(|o| stratum_weight(stride, first, traced, total, true, o))
+                            .collect();
                         let mut sum = vec![0.0; stride];
                         for j in 0..traced as usize {
                             let o = (first + j) % stride;
@@ -506,9 +504,8 @@ mod tests {
                         }
                     }
                 }
-                assert!(stratum_weights(stride, first, 16, 16, false)
-                    .iter()
-                    .all(|&x| x == stride as f64));
+                assert!((0..stride)
+                    .all(|o| stratum_weight(stride, first, 16, 16, false, o) == stride as f64));
             }
         }
     }

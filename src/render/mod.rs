@@ -34,8 +34,6 @@ pub mod settings;
 pub mod tilt;
 pub mod world;
 
-use crate::accel::Intersector;
-
 /// The version of the images spar renders: raised by one whenever a change
 /// moves some render's values beyond f32 rounding (physics, sampling,
 /// defaults). `tests/render/render_image_version.rs` keeps small renders of
@@ -44,6 +42,8 @@ use crate::accel::Intersector;
 /// it, not the git version, so references stay valid across changes that
 /// leave the images alone (refactors, speed-ups).
 pub const IMAGE_VERSION: u32 = 1;
+
+use crate::accel::Intersector;
 use crate::optics::Coherence;
 use adaptive::{NoiseMeasure, PixelNoise};
 use approx::{Approximations, DispersionMode};
@@ -411,12 +411,8 @@ pub fn render_part(
                     } else {
                         0
                     };
-                    // The first `traced` samples trace colour (`/N`). A
-                    // pixel that may stop early does not know its sample
-                    // count, so it weighs by the stride.
+                    // The first `traced` samples trace colour (`/N`).
                     let traced = spectral.colour_samples(total);
-                    let weights =
-                        approx::stratum_weights(stride, first, traced, total, measure.is_none());
                     for sample in spec.samples.start..spec.samples.end {
                         let key = SampleKey {
                             seed: opts.seed,
@@ -428,6 +424,18 @@ pub fn render_part(
                         } else {
                             stride
                         };
+                        // A thinned-out colour wavelength stands for the
+                        // samples that do not trace it. A pixel that may
+                        // stop early does not know its sample count, so it
+                        // weighs by the stride.
+                        let colour_weight = approx::stratum_weight(
+                            stride,
+                            first,
+                            traced,
+                            total,
+                            measure.is_none(),
+                            stratum,
+                        );
                         let (jx, jy) = match camera.sampling {
                             camera::PixelSampling::Jittered => key.pixel_position(),
                             camera::PixelSampling::Center => (0.5, 0.5),
@@ -444,9 +452,7 @@ pub fn render_part(
                                 let out = &mut out[..idx.len()];
                                 tracer.trace_camera(eye, d, [bx, by], batch, &key, out, &mut stats);
                                 for (&i, j) in idx.iter().zip(out.iter()) {
-                                    // A thinned-out colour wavelength stands
-                                    // for the samples that do not trace it.
-                                    let w = if i < colour { weights[stratum] } else { 1.0 };
+                                    let w = if i < colour { colour_weight } else { 1.0 };
                                     let j = match &camera.analyzer {
                                         Some(a) => j.transform(a),
                                         None => *j,
