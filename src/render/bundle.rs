@@ -38,7 +38,7 @@
 //! exact tree's feeders are (docs/physics.md §10.2).
 
 use super::absorb::depth as absorb_depth;
-use super::integrator::{feeder_side, max_gain, Query, Region, Stats, Traced, Tracer};
+use super::integrator::{feeder_side, max_gain, Departure, Query, Region, Stats, Traced, Tracer};
 use super::integrator::{Node, WavelengthMedia};
 use super::sampling::SampleKey;
 use crate::optics::backward::Feeder;
@@ -87,7 +87,7 @@ impl Bundle {
         &self,
         (origin, anchor): (DVec3, DVec3),
         f: &Feeder,
-        region: Region,
+        (region, from): (Region, Option<Departure>),
         (throughput, survived): (f64, f64),
         path: u64,
     ) -> Query {
@@ -102,6 +102,7 @@ impl Bundle {
             path,
             drift: self.drift,
             weight: self.weight * survived,
+            from,
         }
     }
 }
@@ -269,8 +270,8 @@ impl Tracer<'_> {
         }
         stats.rays += 2;
         let traced = (
-            self.trace(mo.origin, mo.dir, region, stats),
-            self.trace(me.origin, me.dir, region, stats),
+            self.trace(mo.origin, mo.dir, region, None, stats),
+            self.trace(me.origin, me.dir, region, None, stats),
         );
         let (Some(to), Some(te)) = traced else {
             return self.split(
@@ -457,7 +458,17 @@ impl Tracer<'_> {
                 else {
                     continue;
                 };
-                let q = b.query((origin, anchor), f, region, (throughput, survived), path);
+                let from = Departure {
+                    object: node.hit.geom,
+                    normal: offset,
+                };
+                let q = b.query(
+                    (origin, anchor),
+                    f,
+                    (region, Some(from)),
+                    (throughput, survived),
+                    path,
+                );
                 self.add_exact(&q, f, (a, survived), batch, key, out, scratch, stats);
             }
         }
@@ -551,7 +562,7 @@ impl Tracer<'_> {
             let q = b.query(
                 (origin, anchor),
                 f,
-                Region::Inside(b.object),
+                (Region::Inside(b.object), None),
                 (throughput, survived),
                 path,
             );
@@ -625,6 +636,7 @@ impl Tracer<'_> {
                 drift: b.drift,
                 anchor: m.anchor,
                 weight: b.weight * survived,
+                from: None,
             };
             let (member_out, deeper) = scratch.split_at_mut(n);
             // A member's own wave has one mode: its basis is unused.

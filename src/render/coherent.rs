@@ -30,7 +30,7 @@
 
 use super::absorb;
 use super::integrator::{
-    feeder_side, max_gain, Meeting, Region, Stats, Traced, Tracer, WavelengthMedia,
+    feeder_side, max_gain, Departure, Meeting, Region, Stats, Traced, Tracer, WavelengthMedia,
 };
 use super::sampling::SampleKey;
 use crate::optics::backward::Feeders;
@@ -136,6 +136,8 @@ struct Path {
     weight: f64,
     /// The last roulette decision on the path (`UNROULETTED`: none).
     roulette: u32,
+    /// The surface the ray leaves (`None`: the camera's).
+    from: Option<Departure>,
 }
 
 /// What every backward ray of one camera sample's walk shares: the
@@ -301,6 +303,7 @@ impl Tracer<'_> {
                 kept: UNABSORBED,
                 weight: 1.0,
                 roulette: UNROULETTED,
+                from: None,
             };
             let mut walk = Walk {
                 batch,
@@ -319,7 +322,8 @@ impl Tracer<'_> {
     #[allow(clippy::too_many_arguments)]
     fn walk(&self, p: &Path, basis: &[DVec3; 2], w: &mut Walk<'_>, stats: &mut Stats) {
         stats.rays += 1;
-        let Some(Traced { ray, hit, t_hit }) = self.trace(p.origin, p.dir, p.region, stats) else {
+        let Some(Traced { ray, hit, t_hit }) = self.trace(p.origin, p.dir, p.region, p.from, stats)
+        else {
             return;
         };
         if p.region == Region::Ambient && self.reach_light(p, basis, t_hit, w.leaves) {
@@ -453,6 +457,10 @@ impl Tracer<'_> {
                 kept,
                 weight: p.weight * weight * survived,
                 roulette,
+                from: Some(Departure {
+                    object: hit.geom,
+                    normal: offset,
+                }),
             };
             self.walk(&child, &f.wave.basis, w, stats);
         }

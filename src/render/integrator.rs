@@ -334,6 +334,15 @@ pub(super) struct Traced {
     pub t_hit: f64,
 }
 
+/// Where a secondary ray starts: on object `object`'s surface, stepped off
+/// it along `normal` (the unit normal on the ray's side). A ray in air that
+/// leaves a convex object this way cannot meet that object again.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Departure {
+    pub object: u32,
+    pub normal: DVec3,
+}
+
 /// A surface a backward ray met, ready for the interface solver: the
 /// backend's ray and hit, the normal into the ray's side, the region on
 /// the far side, and the feeders of the ray's wave.
@@ -375,6 +384,9 @@ pub struct Tracer<'a> {
     /// The facet planes of each convex object: rays inside it leave by
     /// them without the backend ([`crate::accel::convex`]).
     convex: Vec<Option<ConvexInterior>>,
+    /// Each object's bounding box, padded past the f32 rounding of the
+    /// backend's copy of it: a ray that meets none of them meets nothing.
+    boxes: Vec<(DVec3, DVec3)>,
 }
 
 /// One backward ray: the forward wave of `kind` that arrives at `origin`
@@ -402,6 +414,8 @@ pub(super) struct Query {
     /// roulette) from the camera to this ray: with `throughput`, what
     /// roulette compares with its threshold. 1 in the exact tree.
     pub weight: f64,
+    /// The surface the ray leaves (`None`: the camera's).
+    pub from: Option<Departure>,
 }
 
 /// Largest squared singular value of a Jones block: the most intensity it
@@ -424,6 +438,19 @@ pub(super) fn max_gain(t: &Jones) -> f64 {
 #[inline]
 fn unpolarized_gain(t: &Jones) -> f64 {
     t.norm_sqr() / t.cols as f64
+}
+
+/// Whether the ray `origin + t dir`, t ≥ 0, meets the box `(lo, hi)`
+/// (slabs; a 0·∞ on a slab's face is dropped by `min`/`max`, which keeps
+/// the ray in that slab: the answer errs towards meeting).
+#[inline]
+fn ray_meets_box(origin: DVec3, dir: DVec3, (lo, hi): (DVec3, DVec3)) -> bool {
+    let inv = dir.recip();
+    let a = (lo - origin) * inv;
+    let b = (hi - origin) * inv;
+    let near = a.min(b).max_element().max(0.0);
+    let far = a.max(b).min_element();
+    !(far < near)
 }
 
 /// The facet planes of each object a ray inside can leave by alone: a
@@ -499,6 +526,16 @@ impl<'a> Tracer<'a> {
                 .map(|o| o.material.absorption().is_some())
                 .collect(),
             convex: convex_interiors(scene, settings.convex_exit),
+            boxes: scene
+                .objects
+                .iter()
+                .zip(&reach)
+                .map(|(o, r)| {
+                    let (lo, hi) = o.mesh.bounds();
+                    let pad = DVec3::splat(1e-6 * r);
+                    (lo - pad, hi + pad)
+                })
+                .collect(),
         }
     }
 
@@ -665,6 +702,7 @@ impl<'a> Tracer<'a> {
             drift: 0.0,
             anchor: origin,
             weight: 1.0,
+            from: None,
         };
         // One slot of `batch` matrices per level of the tree below the root
         // (twice that with bundles: a bundle that splits hands its members
@@ -723,8 +761,18 @@ impl<'a> Tracer<'a> {
         origin: DVec3,
         dir: DVec3,
         region: Region,
+        from: Option<Departure>,
         stats: &mut Stats,
     ) -> Option<Traced> {
+        if region == Region::Ambient
+            && from.is_some_and(|d| self.leaves_for_nothing(origin, dir, d))
+        {
+            return Some(Traced {
+                ray: Some(Ray::new(origin, dir)),
+                hit: None,
+                t_hit: f64::INFINITY,
+            });
+        }
         // Inside a convex object its facet planes say where the ray leaves
         // (a ray the planes are unsure of goes to the backend).
         if let Region::Inside(object) = region {
@@ -762,6 +810,28 @@ impl<'a> Tracer<'a> {
         };
         let t_hit = hit.map_or(f64::INFINITY, |h| h.t + t0);
         Some(Traced { ray, hit, t_hit })
+    }
+
+    /// True when the ray in air from `origin` along `dir`, started off a
+    /// convex object's surface by `from`, can meet no object: it moves away
+    /// from the plane it leaves (the object lies behind that plane, within
+    /// [`crate::accel::convex::CONVEX_TOLERANCE`], far less than the
+    /// origin's offset) and misses every other object's box. The backend
+    /// would find no hit; most rays in a gem's tree that reach air are
+    /// such rays (a stone's exterior reflections and every ray that leaves
+    /// it), so they skip the backend.
+    #[inline]
+    fn leaves_for_nothing(&self, origin: DVec3, dir: DVec3, from: Departure) -> bool {
+        let object = from.object as usize;
+        self.convex[object].is_some()
+            && dir.dot(from.normal) > 0.0
+            && origin.is_finite()
+            && dir.is_finite()
+            && self
+                .boxes
+                .iter()
+                .enumerate()
+                .all(|(j, b)| j == object || !ray_meets_box(origin, dir, *b))
     }
 
     /// The nearest area light in front of `t_hit` along the ray from
@@ -997,7 +1067,7 @@ impl<'a> Tracer<'a> {
         stats: &mut Stats,
     ) {
         stats.rays += 1;
-        let traced = self.trace(q.origin, q.dir, q.region, stats);
+        let traced = self.trace(q.origin, q.dir, q.region, q.from, stats);
         self.radiance_traced(q, traced, basis, batch, key, out, scratch, stats);
     }
 
@@ -1171,6 +1241,10 @@ impl<'a> Tracer<'a> {
                 drift: q.drift,
                 anchor: point,
                 weight: q.weight * weight,
+                from: Some(Departure {
+                    object: hit.geom,
+                    normal: offset,
+                }),
             };
             let (child_out, deeper) = scratch.split_at_mut(n);
             self.radiance(&child, &f.wave.basis, batch, key, child_out, deeper, stats);
