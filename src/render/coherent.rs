@@ -30,7 +30,8 @@
 
 use super::absorb;
 use super::integrator::{
-    feeder_side, max_gain, Departure, Meeting, Region, Stats, Traced, Tracer, WavelengthMedia,
+    feeder_side, max_gain, CameraHit, Departure, Meeting, Region, Stats, Traced, Tracer,
+    WavelengthMedia,
 };
 use super::sampling::SampleKey;
 use crate::optics::backward::Feeders;
@@ -275,14 +276,14 @@ impl Tracer<'_> {
     #[allow(clippy::too_many_arguments)]
     pub(super) fn trace_coherent(
         &self,
-        origin: DVec3,
-        dir: DVec3,
+        first: &CameraHit,
         basis: [DVec3; 2],
         batch: &[WavelengthMedia],
         key: &SampleKey,
         out: &mut [Coherence],
         stats: &mut Stats,
     ) {
+        let (origin, dir) = first.ray();
         SCRATCH.with(|cell| {
             let scratch = &mut *cell.borrow_mut();
             scratch.leaves.clear();
@@ -312,7 +313,9 @@ impl Tracer<'_> {
                 kept: &mut scratch.kept,
                 roulette: &mut scratch.roulette,
             };
-            self.walk(&root, &basis, &mut walk, stats);
+            stats.rays += 1;
+            let traced = first.traced(stats);
+            self.walk_traced(&root, &basis, traced, &mut walk, stats);
             stats.coherent += self.sum_leaves(scratch, batch, out);
         });
     }
@@ -322,8 +325,21 @@ impl Tracer<'_> {
     #[allow(clippy::too_many_arguments)]
     fn walk(&self, p: &Path, basis: &[DVec3; 2], w: &mut Walk<'_>, stats: &mut Stats) {
         stats.rays += 1;
-        let Some(Traced { ray, hit, t_hit }) = self.trace(p.origin, p.dir, p.region, p.from, stats)
-        else {
+        let traced = self.trace(p.origin, p.dir, p.region, p.from, stats);
+        self.walk_traced(p, basis, traced, w, stats);
+    }
+
+    /// [`Self::walk`] for a ray already traced (`None`: it could not be,
+    /// and was counted lost).
+    fn walk_traced(
+        &self,
+        p: &Path,
+        basis: &[DVec3; 2],
+        traced: Option<Traced>,
+        w: &mut Walk<'_>,
+        stats: &mut Stats,
+    ) {
+        let Some(Traced { ray, hit, t_hit }) = traced else {
             return;
         };
         if p.region == Region::Ambient && self.reach_light(p, basis, t_hit, w.leaves) {

@@ -328,10 +328,37 @@ pub(super) fn feeder_side(
 /// A traced backward ray: the ray handed to the backend (`None` when it
 /// misses the scene's bounding sphere), its hit, and the query's own ray
 /// parameter at the hit (∞ without one).
+#[derive(Clone, Copy, Debug)]
 pub(super) struct Traced {
     pub ray: Option<Ray>,
     pub hit: Option<Hit>,
     pub t_hit: f64,
+}
+
+/// A camera ray traced into the scene once, for every batch of
+/// wavelengths of a sample: a ray in air meets the same surface at every
+/// wavelength ([`Tracer::camera_hit`]).
+#[derive(Clone, Copy, Debug)]
+pub struct CameraHit {
+    origin: DVec3,
+    dir: DVec3,
+    /// `None`: the backend could not trace it (each batch counts it lost).
+    traced: Option<Traced>,
+}
+
+impl CameraHit {
+    /// The camera ray's origin and direction.
+    pub fn ray(&self) -> (DVec3, DVec3) {
+        (self.origin, self.dir)
+    }
+
+    /// The traced ray, counting it lost in `stats` when it could not be.
+    pub(super) fn traced(&self, stats: &mut Stats) -> Option<Traced> {
+        if self.traced.is_none() {
+            stats.lose(|c| &mut c.untraceable);
+        }
+        self.traced
+    }
 }
 
 /// Where a secondary ray starts: on object `object`'s surface, stepped off
@@ -666,6 +693,19 @@ impl<'a> Tracer<'a> {
         out[0]
     }
 
+    /// The camera ray from `origin` along `dir`, traced to the first
+    /// surface it meets: what [`Self::trace_camera_from`] starts every
+    /// batch of wavelengths of one sample from.
+    pub fn camera_hit(&self, origin: DVec3, dir: DVec3) -> CameraHit {
+        // A ray the backend cannot trace is counted lost where it is used.
+        let mut ignored = Stats::default();
+        CameraHit {
+            origin,
+            dir,
+            traced: self.trace(origin, dir, Region::Ambient, None, &mut ignored),
+        }
+    }
+
     /// A camera ray for a batch of wavelengths that share their geometry
     /// (every entry of `batch` has the same media, as in a scene without
     /// dispersion or with dispersion switched off): the tree is traced once
@@ -683,13 +723,29 @@ impl<'a> Tracer<'a> {
         out: &mut [Coherence],
         stats: &mut Stats,
     ) {
+        let first = self.camera_hit(origin, dir);
+        self.trace_camera_from(&first, basis, batch, key, out, stats);
+    }
+
+    /// [`Self::trace_camera`] for a camera ray already traced to its first
+    /// surface ([`Self::camera_hit`]): the batches of one sample share it.
+    pub fn trace_camera_from(
+        &self,
+        first: &CameraHit,
+        basis: [DVec3; 2],
+        batch: &[WavelengthMedia],
+        key: &SampleKey,
+        out: &mut [Coherence],
+        stats: &mut Stats,
+    ) {
+        let (origin, dir) = first.ray();
         assert_eq!(batch.len(), out.len());
         debug_assert!(
             batch.iter().all(|m| m.objects == batch[0].objects),
             "a batch must share its geometry"
         );
         if self.is_coherent() {
-            return self.trace_coherent(origin, dir, basis, batch, key, out, stats);
+            return self.trace_coherent(first, basis, batch, key, out, stats);
         }
         let q = Query {
             origin,
@@ -714,7 +770,9 @@ impl<'a> Tracer<'a> {
             levels
         };
         let mut scratch = vec![Coherence::zero(1); batch.len() * levels];
-        self.radiance(&q, &basis, batch, key, out, &mut scratch, stats);
+        stats.rays += 1;
+        let traced = first.traced(stats);
+        self.radiance_traced(&q, traced, &basis, batch, key, out, &mut scratch, stats);
     }
 
     /// The ray to hand the backend for a query from `origin` along `dir`,

@@ -447,10 +447,20 @@ pub fn render_part(
                             start: sample as u64,
                             len: 1,
                         };
+                        // Every batch of wavelengths starts from the same
+                        // first surface.
+                        let first = tracer.camera_hit(eye, d);
                         acc.push_with(leaf, |v| {
                             for (idx, batch) in &batches[stratum] {
                                 let out = &mut out[..idx.len()];
-                                tracer.trace_camera(eye, d, [bx, by], batch, &key, out, &mut stats);
+                                tracer.trace_camera_from(
+                                    &first,
+                                    [bx, by],
+                                    batch,
+                                    &key,
+                                    out,
+                                    &mut stats,
+                                );
                                 for (&i, j) in idx.iter().zip(out.iter()) {
                                     let w = if i < colour { colour_weight } else { 1.0 };
                                     let j = match &camera.analyzer {
