@@ -6,7 +6,7 @@
 //! with no other object ahead they skip the backend too, which then sees
 //! only the camera's rays; a neighbour ahead still gets traced.
 
-use crate::render_strategies::gem_scene as gem;
+use crate::render_strategies::{gem_scene as gem, gems_scene};
 use crate::support::render as common;
 use spar::accel::{AccelKind, Hit, Intersector, Ray};
 use spar::render::approx::{CoherenceModel, Strategy};
@@ -132,29 +132,11 @@ fn rays_leaving_a_stone_still_meet_its_neighbour() {
              transform = {{ scale = 0.4, rotate = [0.0, 20.0, 0.0], translate = [{x}, 0.0, 0.0] }}\n"
         )
     };
-    let toml = format!(
-        r#"
-[camera]
-eye = [0.0, -3.0, 2.2]
-look_at = [0.0, 0.0, -0.1]
-up = [0.0, 0.0, 1.0]
-fov = 30.0
-resolution = [8, 8]
-[render]
-max_depth = 12
-prune = 0.0
-{}{}
-[[light]]
-corners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, -1.5]]
-texture = "builtin:checker"
-polarization = {{ linear = [1.0, 0.4, 0.0] }}
-[background]
-radiance = 0.3
-"#,
+    let (scene, _d) = gems_scene(&format!(
+        "{}{}",
         stone(-0.5, "n-bk7", ""),
         stone(0.5, "calcite", "optic_axis = [0.3, 0.5, 0.8]"),
-    );
-    let (scene, _d) = common::scene(&toml, &[]);
+    ));
     for kind in common::backends() {
         let backend = spar::render::prepare::accel(&scene, kind, 1, None).unwrap();
         let what = format!("{kind}");

@@ -9,7 +9,17 @@ use spar::render::approx::{Branching, PolarizationModel, Strategy};
 use spar::render::integrator::{Stats, Tracer, TreeSettings, WavelengthMedia};
 use spar::render::sampling::SampleKey;
 
+/// The trichecker gem in `medium` (with the `axis` line of a crystal),
+/// above a textured, polarized light.
 pub(crate) fn gem_scene(medium: &str, axis: &str) -> (spar::scene::Scene, tempfile::TempDir) {
+    gems_scene(&format!(
+        "[[object]]\nmesh = \"builtin:trichecker12\"\nmedium = \"{medium}\"\n{axis}\n"
+    ))
+}
+
+/// [`gem_scene`]'s camera, light and background around the `[[object]]`
+/// tables `objects`.
+pub(crate) fn gems_scene(objects: &str) -> (spar::scene::Scene, tempfile::TempDir) {
     let toml = format!(
         r#"
 [camera]
@@ -21,10 +31,7 @@ resolution = [8, 8]
 [render]
 max_depth = 12
 prune = 0.0
-[[object]]
-mesh = "builtin:trichecker12"
-medium = "{medium}"
-{axis}
+{objects}
 [[light]]
 corners = [[-2.0, -2.0, -1.5], [2.0, -2.0, -1.5], [2.0, 2.0, -1.5], [-2.0, 2.0, -1.5]]
 texture = "builtin:checker"
