@@ -7,8 +7,10 @@
 //! SPAR_BLESS_IMAGES=1 cargo test --release --test render image_version
 //! ```
 //!
-//! `spar speed-error` references name the version, so they stay valid
-//! across every change that does not fail this test.
+//! The stored renders are the Rust BVH's; every backend of the build
+//! (Embree too) must match them. `spar speed-error` references name the
+//! version, so they stay valid across every change that does not fail
+//! this test.
 
 use spar::accel::AccelKind;
 use spar::image::{Image, PixelType, WriteOptions};
@@ -35,13 +37,14 @@ fn root() -> PathBuf {
 }
 
 /// The scene at 16×16, 2 samples per pixel, its own wavelengths, through
-/// spar's own BVH (every build has it; its hits are exact f64).
-fn render(name: &str) -> Film {
+/// `accel` (the stored renders are spar's own BVH's: every build has it,
+/// its hits are exact f64).
+fn render(name: &str, accel: AccelKind) -> Film {
     let mut scene = Scene::load(&root().join("scenes").join(name)).unwrap();
     scene.camera = scene.camera.clone().with_resolution(16, 16);
     scene.samples = 2;
     let lambdas = scene.settings.wavelengths.lambdas().to_vec();
-    render_with(&scene, &lambdas, AccelKind::Rust).0
+    render_with(&scene, &lambdas, accel).0
 }
 
 fn stored_path(name: &str) -> PathBuf {
@@ -67,8 +70,17 @@ fn renders_equal_the_stored_images_of_this_image_version() {
     let how = "raise spar::render::IMAGE_VERSION (src/render/mod.rs) by one if the images \
                change on purpose, then store them: SPAR_BLESS_IMAGES=1 cargo test --release \
                --test render image_version";
-    for name in SCENES {
-        let film = render(name);
+    // Every backend of this build against the same stored render: Embree's
+    // f32 hits are refined in f64, so its images are the BVH's.
+    let backends = AccelKind::ALL.into_iter().filter(|k| k.available());
+    for (name, accel) in SCENES
+        .into_iter()
+        .flat_map(|n| backends.clone().map(move |k| (n, k)))
+    {
+        if bless && accel != AccelKind::Rust {
+            continue;
+        }
+        let film = render(name, accel);
         let path = stored_path(name);
         if bless {
             std::fs::create_dir_all(path.parent().unwrap()).unwrap();
@@ -89,7 +101,7 @@ fn renders_equal_the_stored_images_of_this_image_version() {
         names.sort();
         let mut expected = now.channels().to_vec();
         expected.sort();
-        assert_eq!(names, expected, "{name}: channels; {how}");
+        assert_eq!(names, expected, "{name} ({accel}): channels; {how}");
         // Beyond rounding: relative to the image's brightest S0, so that
         // reordered sums (a few f32 ulps of the larger terms) pass and any
         // change of the light does not.
@@ -107,8 +119,8 @@ fn renders_equal_the_stored_images_of_this_image_version() {
         }
         assert!(
             worst <= 1e-5 * scale,
-            "{name}: {at} moved by {worst:e} (image scale {scale:e}) from the stored \
-             render of image version {IMAGE_VERSION}; {how}"
+            "{name} ({accel}): {at} moved by {worst:e} (image scale {scale:e}) from the \
+             stored render of image version {IMAGE_VERSION}; {how}"
         );
     }
 }
