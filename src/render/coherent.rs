@@ -322,7 +322,6 @@ impl Tracer<'_> {
 
     /// Follows one backward ray, pushing a leaf for every path that reaches
     /// a light. `basis` is the basis the ray's wave was asked in.
-    #[allow(clippy::too_many_arguments)]
     fn walk(&self, p: &Path, basis: &[DVec3; 2], w: &mut Walk<'_>, stats: &mut Stats) {
         stats.rays += 1;
         let traced = self.trace(p.origin, p.dir, p.region, p.from, stats);

@@ -450,12 +450,12 @@ pub fn render_part(
                         };
                         // Every batch of wavelengths starts from the same
                         // first surface.
-                        let first = tracer.camera_hit(eye, d);
+                        let hit = tracer.camera_hit(eye, d);
                         acc.push_with(leaf, |v| {
                             for (idx, batch) in &batches[stratum] {
                                 let out = &mut out[..idx.len()];
                                 tracer.trace_camera_from(
-                                    &first,
+                                    &hit,
                                     [bx, by],
                                     batch,
                                     &key,
