@@ -1049,7 +1049,9 @@ impl<'a> Tracer<'a> {
         let mut n_chosen = 0;
         if sampled {
             if total > 0.0 {
-                let u = key.uniform_at(dim::BRANCH + depth, path) * total;
+                // Stratified over the pixel's samples: a node that recurs
+                // across them picks each feeder close to its share of times.
+                let u = key.stratified_at(dim::BRANCH + depth, path) * total;
                 let mut acc = 0.0;
                 let mut pick = n - 1;
                 for (i, g) in gains.iter().enumerate().take(n) {
@@ -1095,7 +1097,9 @@ impl<'a> Tracer<'a> {
             return Some(1.0);
         }
         let p = effective / threshold;
-        if key.uniform_at(dim::ROULETTE + depth, stream) < p {
+        // Stratified over the pixel's samples (docs/physics.md §6.6): a
+        // subtree that recurs across them survives close to p of the time.
+        if key.stratified_at(dim::ROULETTE + depth, stream) < p {
             Some(1.0 / p)
         } else {
             None

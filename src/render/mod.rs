@@ -41,8 +41,10 @@ pub mod world;
 /// them, so it cannot be forgotten. A `spar speed-error` reference names
 /// it, not the git version, so references stay valid across changes that
 /// leave the images alone (refactors, speed-ups). 2: Owen-scrambled
-/// Sobol' pixel positions (were rotated R2).
-pub const IMAGE_VERSION: u32 = 2;
+/// Sobol' pixel positions (were rotated R2). 3: Russian roulette's and
+/// sampled branching's numbers stratified over a pixel's samples (renders
+/// of the exact tree are unchanged).
+pub const IMAGE_VERSION: u32 = 3;
 
 use crate::accel::Intersector;
 use crate::optics::Coherence;
