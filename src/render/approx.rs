@@ -158,20 +158,42 @@ impl Spectral {
     }
 }
 
+/// Samples per block of colour strata for a pixel whose first `traced`
+/// samples trace colour: the largest power of two `b` with
+/// `b · stride ≤ traced` (1 without thinning). Sample `j` traces stratum
+/// [`stratum_of`]`(stride, first, b, j)`: aligned blocks of `b` samples
+/// take one stratum each, in rotation, so each stratum's samples are whole
+/// aligned blocks of the pixel's positions, each a net over the pixel
+/// (docs/physics.md §6.2–6.3).
+pub fn stratum_block(stride: usize, traced: u32) -> usize {
+    match traced as usize / stride.max(1) {
+        0 => 1,
+        most if stride > 1 => 1 << most.ilog2(),
+        _ => 1,
+    }
+}
+
+/// The colour stratum of sample `j` (see [`stratum_block`]): block
+/// `j / block` in rotation from stratum `first`.
+pub fn stratum_of(stride: usize, first: usize, block: usize, j: usize) -> usize {
+    (first + j / block.max(1)) % stride.max(1)
+}
+
 /// Weight of colour stratum `o`'s values in a pixel of `total` samples
 /// whose first `traced` samples trace colour, sample `j` the stratum
-/// `(first + j) % stride` (docs/physics.md §6.3): `total / n_o`, where
-/// `n_o` is how many of the traced samples trace stratum `o`, so each
-/// wavelength's estimate is the mean of its own samples and weighs exactly
-/// as much as every other wavelength's, whatever the counts are. With
-/// fewer traced samples than the stride some strata are never traced, and
-/// `stride · total / traced` (the weight of tracing each stratum with
-/// probability `traced / stride`) is the unbiased one; `exact_counts =
-/// false` (a pixel that may stop early, not knowing its sample count) asks
-/// for that weight too.
+/// [`stratum_of`]`(stride, first, block, j)` (docs/physics.md §6.3):
+/// `total / n_o`, where `n_o` is how many of the traced samples trace
+/// stratum `o`, so each wavelength's estimate is the mean of its own
+/// samples and weighs exactly as much as every other wavelength's,
+/// whatever the counts are. With fewer traced samples than the stride
+/// some strata are never traced, and `stride · total / traced` (the weight
+/// of tracing each stratum with probability `traced / stride`) is the
+/// unbiased one; `exact_counts = false` (a pixel that may stop early, not
+/// knowing its sample count) asks for that weight too.
 pub fn stratum_weight(
     stride: usize,
     first: usize,
+    block: usize,
     traced: u32,
     total: u32,
     exact_counts: bool,
@@ -181,11 +203,16 @@ pub fn stratum_weight(
     if !exact_counts || traced < stride {
         return stride as f64 * total / traced.max(1) as f64;
     }
-    // Samples j < traced with (first + j) % stride == o: one per full
+    // Whole blocks i < full with (first + i) % stride == o: one per full
     // round of `stride`, and one more if o comes up in the last, partial
-    // round (its j = (o - first) mod stride is below the remainder).
-    let extra = ((o + stride - first % stride) % stride) < traced % stride;
-    let n = traced / stride + extra as usize;
+    // round; then the samples of the last, partial block if it is o's.
+    let block = block.max(1);
+    let (full, rest) = (traced / block, traced % block);
+    let extra = ((o + stride - first % stride) % stride) < full % stride;
+    let mut n = (full / stride + extra as usize) * block;
+    if rest > 0 && (first + full) % stride == o {
+        n += rest;
+    }
     total / n as f64
 }
 
@@ -472,45 +499,72 @@ mod tests {
     fn stratum_weights_weigh_every_wavelength_equally() {
         // Counting the samples directly: stratum o's traced samples times
         // its weight add up to the pixel's sample count, for any count,
-        // start and share of samples that trace colour.
+        // start, block and share of samples that trace colour.
         for stride in 1..9usize {
             for first in 0..stride {
                 for total in 1..40u32 {
                     for every in 1..4 {
                         let traced = total.div_ceil(every);
-                        let w: Vec<f64> = (0..stride)
-                            .map(|o| stratum_weight(stride, first, traced, total, true, o))
-                            .collect();
-                        let mut sum = vec![0.0; stride];
-                        for j in 0..traced as usize {
-                            let o = (first + j) % stride;
-                            sum[o] += w[o];
-                        }
-                        for (o, s) in sum.iter().enumerate() {
-                            if (traced as usize) < stride {
-                                // Unbiased thinning: each stratum traced
-                                // with probability traced / stride.
-                                let p = traced as f64 / stride as f64;
-                                assert!((w[o] * p - total as f64).abs() < 1e-9);
-                            } else {
-                                assert!(
-                                    (s - total as f64).abs() < 1e-9,
-                                    "{stride} {first} {total} {every} {o}"
-                                );
+                        for block in [1, 2, 4, 8, stratum_block(stride, traced)] {
+                            let w: Vec<f64> = (0..stride)
+                                .map(|o| {
+                                    stratum_weight(stride, first, block, traced, total, true, o)
+                                })
+                                .collect();
+                            let mut sum = vec![0.0; stride];
+                            let mut seen = vec![false; stride];
+                            for j in 0..traced as usize {
+                                let o = stratum_of(stride, first, block, j);
+                                sum[o] += w[o];
+                                seen[o] = true;
                             }
-                        }
-                        if every == 1 && total as usize % stride == 0 {
-                            assert!(w.iter().all(|&x| x == stride as f64));
+                            for (o, s) in sum.iter().enumerate() {
+                                if (traced as usize) < stride {
+                                    // Unbiased thinning: each stratum
+                                    // traced with probability traced / stride.
+                                    let p = traced as f64 / stride as f64;
+                                    assert!((w[o] * p - total as f64).abs() < 1e-9);
+                                } else if seen[o] {
+                                    assert!(
+                                        (s - total as f64).abs() < 1e-9,
+                                        "{stride} {first} {block} {total} {every} {o}"
+                                    );
+                                }
+                            }
+                            // The chosen block leaves no stratum out.
+                            if block == stratum_block(stride, traced) && traced as usize >= stride {
+                                assert!(seen.iter().all(|&x| x), "{stride} {traced} {block}");
+                            }
+                            if every == 1 && total as usize % (stride * block) == 0 {
+                                assert!(w.iter().all(|&x| x == stride as f64));
+                            }
                         }
                     }
                 }
                 assert!((0..stride)
-                    .all(|o| stratum_weight(stride, first, 16, 16, false, o) == stride as f64));
+                    .all(|o| stratum_weight(stride, first, 4, 16, 16, false, o) == stride as f64));
             }
         }
     }
 
     #[test]
+    fn stratum_blocks_are_powers_of_two_that_fit_every_stratum() {
+        assert_eq!(stratum_block(1, 16), 1);
+        assert_eq!(stratum_block(4, 16), 4);
+        assert_eq!(stratum_block(3, 16), 4);
+        assert_eq!(stratum_block(5, 16), 2);
+        assert_eq!(stratum_block(4, 3), 1);
+        assert_eq!(stratum_block(2, 32), 16);
+        for stride in 2..12 {
+            for traced in 0..200u32 {
+                let b = stratum_block(stride, traced);
+                assert!(b.is_power_of_two());
+                assert!(b * stride <= traced as usize || b == 1);
+                assert!(2 * b * stride > traced as usize || (traced as usize) < stride);
+            }
+        }
+    }
+
     fn colour_is_traced_on_the_first_samples() {
         let s = |every| Spectral {
             every,

@@ -42,8 +42,9 @@ pub mod world;
 /// it, not the git version, so references stay valid across changes that
 /// leave the images alone (refactors, speed-ups). 2: Owen-scrambled
 /// Sobol' pixel positions (were rotated R2). 3: Russian roulette's and
-/// sampled branching's numbers stratified over a pixel's samples (renders
-/// of the exact tree are unchanged).
+/// sampled branching's numbers stratified over a pixel's samples, and
+/// `hero:K`'s colour strata taken by aligned blocks of samples (renders
+/// of the exact tree with every wavelength are unchanged).
 pub const IMAGE_VERSION: u32 = 3;
 
 use crate::accel::Intersector;
@@ -402,8 +403,9 @@ pub fn render_part(
                     // stopped it early.
                     let mut stopped_at = None;
                     // The colour stratum of sample 0: random per pixel,
-                    // then rotating, so any `stride` consecutive samples
-                    // trace every colour wavelength once.
+                    // then rotating block by block (`block` samples each),
+                    // so any `stride` consecutive blocks trace every
+                    // colour wavelength once.
                     let first = if stride > 1 {
                         let key = SampleKey {
                             seed: opts.seed,
@@ -416,6 +418,14 @@ pub fn render_part(
                     };
                     // The first `traced` samples trace colour (`/N`).
                     let traced = spectral.colour_samples(total);
+                    // A pixel that may stop at its first check has every
+                    // stratum by then.
+                    let block = match &measure {
+                        Some(_) => {
+                            approx::stratum_block(stride, opts.adaptive.min_samples.min(traced))
+                        }
+                        None => approx::stratum_block(stride, traced),
+                    };
                     for sample in spec.samples.start..spec.samples.end {
                         let key = SampleKey {
                             seed: opts.seed,
@@ -423,7 +433,7 @@ pub fn render_part(
                             sample,
                         };
                         let stratum = if sample < traced {
-                            (first + sample as usize) % stride
+                            approx::stratum_of(stride, first, block, sample as usize)
                         } else {
                             stride
                         };
@@ -434,6 +444,7 @@ pub fn render_part(
                         let colour_weight = approx::stratum_weight(
                             stride,
                             first,
+                            block,
                             traced,
                             total,
                             measure.is_none(),
