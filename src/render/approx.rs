@@ -158,30 +158,23 @@ impl Spectral {
     }
 }
 
-/// Samples per block of colour strata for a pixel whose first `traced`
-/// samples trace colour: the largest power of two `b` with
-/// `b · stride ≤ traced` (1 without thinning). Sample `j` traces stratum
-/// [`stratum_of`]`(stride, first, b, j)`: aligned blocks of `b` samples
-/// take one stratum each, in rotation, so each stratum's samples are whole
-/// aligned blocks of the pixel's positions, each a net over the pixel
-/// (docs/physics.md §6.2–6.3).
-pub fn stratum_block(stride: usize, traced: u32) -> usize {
-    match traced as usize / stride.max(1) {
-        0 => 1,
-        most if stride > 1 => 1 << most.ilog2(),
-        _ => 1,
-    }
-}
-
-/// The colour stratum of sample `j` (see [`stratum_block`]): block
-/// `j / block` in rotation from stratum `first`.
-pub fn stratum_of(stride: usize, first: usize, block: usize, j: usize) -> usize {
-    (first + j / block.max(1)) % stride.max(1)
+/// The colour stratum of sample `j` of a pixel whose strata cycle every
+/// `period` samples (the samples that trace colour; with adaptive
+/// sampling, those of its first check): the period is cut into `stride`
+/// runs of consecutive samples, `⌊period/stride⌋` or `⌈period/stride⌉`
+/// long, taken in rotation from stratum `first`. Consecutive samples are
+/// consecutive points of the pixel's positions (docs/physics.md §6.2), so
+/// each stratum's samples are spread over the pixel (a whole net when the
+/// run is an aligned power of two), and every stratum has its share of
+/// samples.
+pub fn stratum_of(stride: usize, first: usize, period: usize, j: usize) -> usize {
+    let (stride, period) = (stride.max(1), period.max(1));
+    (first + (j % period) * stride / period) % stride
 }
 
 /// Weight of colour stratum `o`'s values in a pixel of `total` samples
 /// whose first `traced` samples trace colour, sample `j` the stratum
-/// [`stratum_of`]`(stride, first, block, j)` (docs/physics.md §6.3):
+/// [`stratum_of`]`(stride, first, traced, j)` (docs/physics.md §6.3):
 /// `total / n_o`, where `n_o` is how many of the traced samples trace
 /// stratum `o`, so each wavelength's estimate is the mean of its own
 /// samples and weighs exactly as much as every other wavelength's,
@@ -193,7 +186,6 @@ pub fn stratum_of(stride: usize, first: usize, block: usize, j: usize) -> usize 
 pub fn stratum_weight(
     stride: usize,
     first: usize,
-    block: usize,
     traced: u32,
     total: u32,
     exact_counts: bool,
@@ -203,16 +195,10 @@ pub fn stratum_weight(
     if !exact_counts || traced < stride {
         return stride as f64 * total / traced.max(1) as f64;
     }
-    // Whole blocks i < full with (first + i) % stride == o: one per full
-    // round of `stride`, and one more if o comes up in the last, partial
-    // round; then the samples of the last, partial block if it is o's.
-    let block = block.max(1);
-    let (full, rest) = (traced / block, traced % block);
-    let extra = ((o + stride - first % stride) % stride) < full % stride;
-    let mut n = (full / stride + extra as usize) * block;
-    if rest > 0 && (first + full) % stride == o {
-        n += rest;
-    }
+    // Run q of the period holds the samples j with ⌊j·stride/traced⌋ = q:
+    // ⌈q·traced/stride⌉ ≤ j < ⌈(q+1)·traced/stride⌉.
+    let q = (o + stride - first % stride) % stride;
+    let n = ((q + 1) * traced).div_ceil(stride) - (q * traced).div_ceil(stride);
     total / n as f64
 }
 
@@ -499,70 +485,72 @@ mod tests {
     fn stratum_weights_weigh_every_wavelength_equally() {
         // Counting the samples directly: stratum o's traced samples times
         // its weight add up to the pixel's sample count, for any count,
-        // start, block and share of samples that trace colour.
+        // start and share of samples that trace colour; every stratum is
+        // traced ⌊traced/stride⌋ or ⌈traced/stride⌉ times.
         for stride in 1..9usize {
             for first in 0..stride {
                 for total in 1..40u32 {
                     for every in 1..4 {
                         let traced = total.div_ceil(every);
-                        for block in [1, 2, 4, 8, stratum_block(stride, traced)] {
-                            let w: Vec<f64> = (0..stride)
-                                .map(|o| {
-                                    stratum_weight(stride, first, block, traced, total, true, o)
-                                })
-                                .collect();
-                            let mut sum = vec![0.0; stride];
-                            let mut seen = vec![false; stride];
-                            for j in 0..traced as usize {
-                                let o = stratum_of(stride, first, block, j);
-                                sum[o] += w[o];
-                                seen[o] = true;
+                        let w: Vec<f64> = (0..stride)
+                            .map(|o| stratum_weight(stride, first, traced, total, true, o))
+                            .collect();
+                        let mut sum = vec![0.0; stride];
+                        let mut count = vec![0usize; stride];
+                        for j in 0..traced as usize {
+                            let o = stratum_of(stride, first, traced as usize, j);
+                            sum[o] += w[o];
+                            count[o] += 1;
+                        }
+                        for (o, s) in sum.iter().enumerate() {
+                            if (traced as usize) < stride {
+                                // Unbiased thinning: each stratum traced
+                                // with probability traced / stride.
+                                let p = traced as f64 / stride as f64;
+                                assert!((w[o] * p - total as f64).abs() < 1e-9);
+                            } else {
+                                assert!(
+                                    (s - total as f64).abs() < 1e-9,
+                                    "{stride} {first} {total} {every} {o}"
+                                );
+                                let share = traced as usize / stride;
+                                assert!(count[o] == share || count[o] == share + 1);
                             }
-                            for (o, s) in sum.iter().enumerate() {
-                                if (traced as usize) < stride {
-                                    // Unbiased thinning: each stratum
-                                    // traced with probability traced / stride.
-                                    let p = traced as f64 / stride as f64;
-                                    assert!((w[o] * p - total as f64).abs() < 1e-9);
-                                } else if seen[o] {
-                                    assert!(
-                                        (s - total as f64).abs() < 1e-9,
-                                        "{stride} {first} {block} {total} {every} {o}"
-                                    );
-                                }
-                            }
-                            // The chosen block leaves no stratum out.
-                            if block == stratum_block(stride, traced) && traced as usize >= stride {
-                                assert!(seen.iter().all(|&x| x), "{stride} {traced} {block}");
-                            }
-                            if every == 1 && total as usize % (stride * block) == 0 {
-                                assert!(w.iter().all(|&x| x == stride as f64));
-                            }
+                        }
+                        if every == 1 && total as usize % stride == 0 {
+                            assert!(w.iter().all(|&x| x == stride as f64));
                         }
                     }
                 }
                 assert!((0..stride)
-                    .all(|o| stratum_weight(stride, first, 4, 16, 16, false, o) == stride as f64));
+                    .all(|o| stratum_weight(stride, first, 16, 16, false, o) == stride as f64));
             }
         }
     }
 
     #[test]
-    fn stratum_blocks_are_powers_of_two_that_fit_every_stratum() {
-        assert_eq!(stratum_block(1, 16), 1);
-        assert_eq!(stratum_block(4, 16), 4);
-        assert_eq!(stratum_block(3, 16), 4);
-        assert_eq!(stratum_block(5, 16), 2);
-        assert_eq!(stratum_block(4, 3), 1);
-        assert_eq!(stratum_block(2, 32), 16);
-        for stride in 2..12 {
-            for traced in 0..200u32 {
-                let b = stratum_block(stride, traced);
-                assert!(b.is_power_of_two());
-                assert!(b * stride <= traced as usize || b == 1);
-                assert!(2 * b * stride > traced as usize || (traced as usize) < stride);
-            }
-        }
+    fn strata_are_runs_of_consecutive_samples_in_rotation() {
+        // 16 samples, stride 4: aligned runs of 4 (each a net of the
+        // pixel's positions); stride 5: runs of 4, 3, 3, 3, 3; a period
+        // repeats (adaptive sampling beyond its first check).
+        let of = |stride, first, period| -> Vec<usize> {
+            (0..16)
+                .map(|j| stratum_of(stride, first, period, j))
+                .collect()
+        };
+        assert_eq!(
+            of(4, 1, 16),
+            [1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3, 0, 0, 0, 0]
+        );
+        assert_eq!(
+            of(5, 0, 16),
+            [0, 0, 0, 0, 1, 1, 1, 2, 2, 2, 3, 3, 3, 4, 4, 4]
+        );
+        assert_eq!(
+            of(2, 0, 8),
+            [0, 0, 0, 0, 1, 1, 1, 1, 0, 0, 0, 0, 1, 1, 1, 1]
+        );
+        assert_eq!(of(1, 0, 16), [0; 16]);
     }
 
     fn colour_is_traced_on_the_first_samples() {

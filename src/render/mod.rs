@@ -43,7 +43,7 @@ pub mod world;
 /// leave the images alone (refactors, speed-ups). 2: Owen-scrambled
 /// Sobol' pixel positions (were rotated R2). 3: Russian roulette's and
 /// sampled branching's numbers stratified over a pixel's samples, and
-/// `hero:K`'s colour strata taken by aligned blocks of samples (renders
+/// `hero:K`'s colour strata taken by runs of consecutive samples (renders
 /// of the exact tree with every wavelength are unchanged).
 pub const IMAGE_VERSION: u32 = 3;
 
@@ -403,9 +403,8 @@ pub fn render_part(
                     // stopped it early.
                     let mut stopped_at = None;
                     // The colour stratum of sample 0: random per pixel,
-                    // then rotating block by block (`block` samples each),
-                    // so any `stride` consecutive blocks trace every
-                    // colour wavelength once.
+                    // then runs of consecutive samples in rotation, so
+                    // each stratum's samples spread over the pixel.
                     let first = if stride > 1 {
                         let key = SampleKey {
                             seed: opts.seed,
@@ -418,14 +417,12 @@ pub fn render_part(
                     };
                     // The first `traced` samples trace colour (`/N`).
                     let traced = spectral.colour_samples(total);
-                    // A pixel that may stop at its first check has every
-                    // stratum by then.
-                    let block = match &measure {
-                        Some(_) => {
-                            approx::stratum_block(stride, opts.adaptive.min_samples.min(traced))
-                        }
-                        None => approx::stratum_block(stride, traced),
-                    };
+                    // The strata cycle over the colour samples, or over
+                    // the first check's (a pixel may stop there).
+                    let period = match &measure {
+                        Some(_) => opts.adaptive.min_samples.min(traced),
+                        None => traced,
+                    } as usize;
                     for sample in spec.samples.start..spec.samples.end {
                         let key = SampleKey {
                             seed: opts.seed,
@@ -433,7 +430,7 @@ pub fn render_part(
                             sample,
                         };
                         let stratum = if sample < traced {
-                            approx::stratum_of(stride, first, block, sample as usize)
+                            approx::stratum_of(stride, first, period, sample as usize)
                         } else {
                             stride
                         };
@@ -444,7 +441,6 @@ pub fn render_part(
                         let colour_weight = approx::stratum_weight(
                             stride,
                             first,
-                            block,
                             traced,
                             total,
                             measure.is_none(),

@@ -189,8 +189,8 @@ fn hero_wavelengths_are_exact_where_every_sample_sees_the_same_light() {
     // count of at least the stride: 14 samples are 2 rounds of stride 7,
     // and 9 and 16 are not whole rounds (each wavelength traced 1-2 or 2-3
     // times: weighting by the stride alone would miss by up to 1/3); 16
-    // and 32 samples trace the strata in blocks of 2 and 4 samples (8
-    // blocks over 7 strata: one stratum gets two blocks). With
+    // and 32 samples trace the strata in runs of 2-3 and 4-5 consecutive
+    // samples. With
     // `/2` colour is traced on the first half of the samples (7 or 8 of
     // 14 or 16 for `hero:3/2`, 2 of 3 for `all/2`).
     let hero_every_2 = Spectral {
