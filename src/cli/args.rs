@@ -198,7 +198,7 @@ pub struct SceneOverrides {
     pub min_samples: Option<u32>,
     /// Spectral sampling of the colour wavelengths: all (every one for
     /// every sample) or hero:K (K stratified wavelengths per sample,
-    /// rotating across samples), either optionally followed by /N: colour
+    /// rotating over runs of samples), either optionally followed by /N: colour
     /// on the first 1/N of each pixel's samples only, so a
     /// single-wavelength mode (dop, …) rendered with colour gets N times
     /// colour's samples. Overrides the scene.

@@ -105,8 +105,8 @@ pub struct Strategy {
 pub struct Spectral {
     /// Colour wavelengths per sample that traces colour: `None`, every one
     /// (`all`); `Some(K)`, K stratified ones (`hero:K`: one per stratum
-    /// of ⌈n / K⌉ neighbours, the strata's offset rotating from sample to
-    /// sample; docs/physics.md §6.3).
+    /// of ⌈n / K⌉ neighbours, the strata's offset rotating over runs of
+    /// consecutive samples; docs/physics.md §6.3).
     pub per_sample: Option<u32>,
     /// Colour is traced on the first ⌈S/`every`⌉ of a pixel's S samples
     /// only (`/N`; 1: every sample), so the single-wavelength modes get
