@@ -118,7 +118,7 @@ class Scene:
     min_samples: int
     """Samples every pixel takes before adaptive sampling's first check
     (at least 2)."""
-    quality: Literal["draft", "default", "reference"]
+    quality: Literal["draft", "fast", "default", "reference"]
     """Write-only (reading raises AttributeError): applies a preset of
     depth, pruning and approximations (docs/speed-vs-error.md); samples
     and wavelengths stay."""
@@ -139,7 +139,7 @@ class Scene:
         max_depth: int | None = ...,
         prune: float | None = ...,
         seed: int | None = ...,
-        quality: Literal["draft", "default", "reference"] | None = ...,
+        quality: Literal["draft", "fast", "default", "reference"] | None = ...,
         branching: str | None = ...,
         polarization: str | None = ...,
         coherence: str | None = ...,
@@ -170,7 +170,7 @@ class Scene:
         max_depth: int | None = ...,
         prune: float | None = ...,
         seed: int | None = ...,
-        quality: Literal["draft", "default", "reference"] | None = ...,
+        quality: Literal["draft", "fast", "default", "reference"] | None = ...,
         branching: str | None = ...,
         polarization: str | None = ...,
         coherence: str | None = ...,

@@ -290,7 +290,7 @@ impl Scene {
         self.set_one("min_samples", value)
     }
 
-    /// Applies a quality preset (draft, default, reference): depth,
+    /// Applies a quality preset (draft, fast, default, reference): depth,
     /// pruning and approximations.
     #[setter]
     fn set_quality(&mut self, value: &Bound<'_, PyAny>) -> PyResult<()> {

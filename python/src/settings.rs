@@ -171,7 +171,7 @@ fn set(o: &mut SceneOverrides, name: &str, value: &Bound<'_, PyAny>) -> PyResult
             o.quality = Some(
                 <Quality as clap::ValueEnum>::from_str(&s, false).map_err(|_| {
                     errors::input(format!(
-                        "quality `{s}`: expected draft, default or reference"
+                        "quality `{s}`: expected draft, fast, default or reference"
                     ))
                 })?,
             );

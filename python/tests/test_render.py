@@ -127,6 +127,14 @@ def test_settings_round_trip_and_copy(repo):
     assert copy.resolution == (512, 512)
 
 
+def test_fast_preset_keeps_dispersion_and_thins_colour(repo):
+    scene = spar.load_scene(os.path.join(repo, SCENE))
+    scene.quality = "fast"
+    assert scene.spectral == "hero:4"
+    assert scene.dispersion == "on"
+    assert scene.max_depth == 30
+
+
 def test_toml_text_loads_like_the_file(repo):
     path = os.path.join(repo, SCENE)
     with open(path) as f:

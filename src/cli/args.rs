@@ -152,9 +152,11 @@ pub struct SceneOverrides {
     /// A preset of depth, pruning and approximations (branching,
     /// polarization model, spectral sampling, dispersion) chosen from the
     /// measured speed-against-error front (docs/speed-vs-error.md): draft
-    /// (dispersion off, pruning 1e-3), default (the exact tree, pruning
-    /// 1e-4) or reference (pruning 1e-6), all at depth 30. Wavelengths and
-    /// samples are left as they are. Other flags given with it win.
+    /// (dispersion off, pruning 1e-3), fast (roulette 0.03, 4 colour
+    /// wavelengths per sample, pruning 1e-4; unbiased), default (the exact
+    /// tree, pruning 1e-4) or reference (pruning 1e-6), all at depth 30.
+    /// Wavelengths and samples are left as they are. Other flags given
+    /// with it win.
     #[arg(long, value_parser = clap::value_parser!(Quality))]
     pub quality: Option<Quality>,
     /// Branch strategy: full (every feeder), stochastic (one feeder per
