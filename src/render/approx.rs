@@ -553,6 +553,7 @@ mod tests {
         assert_eq!(of(1, 0, 16), [0; 16]);
     }
 
+    #[test]
     fn colour_is_traced_on_the_first_samples() {
         let s = |every| Spectral {
             every,
