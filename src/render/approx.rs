@@ -172,6 +172,17 @@ pub fn stratum_of(stride: usize, first: usize, period: usize, j: usize) -> usize
     (first + (j % period) * stride / period) % stride
 }
 
+/// The period the colour strata cycle over ([`stratum_of`]): a pixel's
+/// `traced` colour samples, or, for a pixel that may stop at its first
+/// check (`first_check`: adaptive sampling's minimum), that check's
+/// samples; never fewer than `stride`, so that a short period still
+/// visits every stratum, one sample each (rotation), instead of skipping
+/// some for good.
+pub fn stratum_period(stride: usize, traced: u32, first_check: Option<u32>) -> usize {
+    let samples = first_check.map_or(traced, |c| c.min(traced)) as usize;
+    samples.max(stride)
+}
+
 /// Weight of colour stratum `o`'s values in a pixel of `total` samples
 /// whose first `traced` samples trace colour, sample `j` the stratum
 /// [`stratum_of`]`(stride, first, traced, j)` (docs/physics.md §6.3):
@@ -551,6 +562,22 @@ mod tests {
             [0, 0, 0, 0, 1, 1, 1, 1, 0, 0, 0, 0, 1, 1, 1, 1]
         );
         assert_eq!(of(1, 0, 16), [0; 16]);
+    }
+
+    #[test]
+    fn a_short_period_still_visits_every_stratum() {
+        // Adaptive sampling with a first check of 2 samples and stride 5:
+        // the strata rotate sample by sample, all five in any 5 samples.
+        let period = stratum_period(5, 64, Some(2));
+        assert_eq!(period, 5);
+        let seen: std::collections::BTreeSet<usize> =
+            (0..5).map(|j| stratum_of(5, 3, period, j)).collect();
+        assert_eq!(seen.len(), 5);
+        // Otherwise the traced samples (or the first check's).
+        assert_eq!(stratum_period(5, 16, None), 16);
+        assert_eq!(stratum_period(4, 64, Some(32)), 32);
+        assert_eq!(stratum_period(4, 16, Some(32)), 16);
+        assert_eq!(stratum_period(7, 3, None), 7);
     }
 
     #[test]

@@ -419,10 +419,8 @@ pub fn render_part(
                     let traced = spectral.colour_samples(total);
                     // The strata cycle over the colour samples, or over
                     // the first check's (a pixel may stop there).
-                    let period = match &measure {
-                        Some(_) => opts.adaptive.min_samples.min(traced),
-                        None => traced,
-                    } as usize;
+                    let first_check = measure.as_ref().map(|_| opts.adaptive.min_samples);
+                    let period = approx::stratum_period(stride, traced, first_check);
                     for sample in spec.samples.start..spec.samples.end {
                         let key = SampleKey {
                             seed: opts.seed,
