@@ -343,6 +343,12 @@ pub fn render_part(
         NoiseMeasure::for_render(&scene.settings.wavelengths, &opts.lambdas, colour)
     });
     let total = spec.samples.total;
+    // The first `traced` samples of a pixel trace colour (`/N`); the
+    // strata cycle over them, or over the first check's (a pixel may stop
+    // there).
+    let traced = spectral.colour_samples(total);
+    let first_check = measure.as_ref().map(|_| opts.adaptive.min_samples);
+    let period = approx::stratum_period(stride, traced, first_check);
     let grid = tiles(spec.region, control.tile_size);
     let total_tiles = grid.len();
 
@@ -415,12 +421,6 @@ pub fn render_part(
                     } else {
                         0
                     };
-                    // The first `traced` samples trace colour (`/N`).
-                    let traced = spectral.colour_samples(total);
-                    // The strata cycle over the colour samples, or over
-                    // the first check's (a pixel may stop there).
-                    let first_check = measure.as_ref().map(|_| opts.adaptive.min_samples);
-                    let period = approx::stratum_period(stride, traced, first_check);
                     for sample in spec.samples.start..spec.samples.end {
                         let key = SampleKey {
                             seed: opts.seed,

@@ -49,14 +49,6 @@ impl SampleKey {
         h
     }
 
-    /// A uniform number in [0, 1) for `dimension` of sub-stream `stream`
-    /// (e.g. one branch of a tree): a pure function of all five.
-    #[inline]
-    pub fn uniform_at(&self, dimension: u32, stream: u64) -> f64 {
-        let h = mix(self.bits(dimension) ^ stream.wrapping_mul(0xd1b5_4a32_d192_ed03));
-        (h >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-
     /// A uniform number in [0, 1) for `dimension` of sub-stream `stream`,
     /// stratified over the pixel's samples: the sample index shuffled and
     /// mapped through an Owen-scrambled base-2 radical inverse, both
