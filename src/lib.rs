@@ -21,6 +21,8 @@
 //!    - [`image`]: writing and reading images (OpenImageIO when built with
 //!      the `native` feature).
 //!    - [`atomic_file`]: whole-file writes that never leave half a file.
+//!    - [`cpu`]: the instruction set the build assumes, checked against the
+//!      CPU it runs on.
 //! 1. [`render`]: the renderer and everything it reads: the scene it
 //!    renders ([`render::world`], lights in [`render::light`]), camera,
 //!    deterministic sampling, the integrator and its approximations, the
@@ -40,6 +42,7 @@
 pub mod accel;
 pub mod atomic_file;
 pub mod cli;
+pub mod cpu;
 pub mod farm;
 pub mod geometry;
 pub mod image;

@@ -31,6 +31,7 @@ const FLOORS: &[&[&str]] = &[
         "native",
         "image",
         "atomic_file",
+        "cpu",
     ],
     &["render"],
     &["scene"],

@@ -19,6 +19,16 @@ use pyo3::prelude::*;
 #[pymodule]
 #[pyo3(name = "spar")]
 fn spar_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    // A build for x86-64-v3 (the default) imported on an older CPU: an
+    // ImportError that says how to rebuild (src/cpu.rs). PyO3's own set-up
+    // runs before this line, so on a CPU without AVX at all (older than
+    // 2011) the import dies before it (checked under QEMU; README).
+    if !spar::cpu::supported() {
+        return Err(pyo3::exceptions::PyImportError::new_err(format!(
+            "{}; for this module: RUSTFLAGS=\"-C target-cpu=x86-64\" pip install ./python",
+            spar::cpu::unsupported_message()
+        )));
+    }
     errors::register(m)?;
     m.add("__version__", spar::VERSION)?;
     m.add("NATIVE", cfg!(feature = "native"))?;

@@ -9,6 +9,7 @@ mod support;
 mod cli_accel;
 mod cli_args;
 mod cli_compare;
+mod cli_cpu;
 mod cli_exit_status;
 mod cli_first_run;
 mod cli_interface;
