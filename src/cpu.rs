@@ -18,9 +18,27 @@ use std::io::Write;
 /// bits.
 #[cfg(target_arch = "x86_64")]
 const NAMES: [&str; 21] = [
-    "sse3", "ssse3", "sse4.1", "sse4.2", "popcnt", "cmpxchg16b", "avx", "avx2", "bmi1", "bmi2",
-    "fma", "f16c", "lzcnt", "movbe", "xsave", "avx512f", "avx512bw", "avx512cd", "avx512dq",
-    "avx512vl", "adx",
+    "sse3",
+    "ssse3",
+    "sse4.1",
+    "sse4.2",
+    "popcnt",
+    "cmpxchg16b",
+    "avx",
+    "avx2",
+    "bmi1",
+    "bmi2",
+    "fma",
+    "f16c",
+    "lzcnt",
+    "movbe",
+    "xsave",
+    "avx512f",
+    "avx512bw",
+    "avx512cd",
+    "avx512dq",
+    "avx512vl",
+    "adx",
 ];
 
 /// The CPU's feature bits as CPUID reports them: leaf 1 ECX, leaf 7
@@ -187,9 +205,27 @@ mod tests {
             )*};
         }
         agree!(
-            "sse3", "ssse3", "sse4.1", "sse4.2", "popcnt", "cmpxchg16b", "avx", "avx2", "bmi1",
-            "bmi2", "fma", "f16c", "lzcnt", "movbe", "xsave", "avx512f", "avx512bw", "avx512cd",
-            "avx512dq", "avx512vl", "adx"
+            "sse3",
+            "ssse3",
+            "sse4.1",
+            "sse4.2",
+            "popcnt",
+            "cmpxchg16b",
+            "avx",
+            "avx2",
+            "bmi1",
+            "bmi2",
+            "fma",
+            "f16c",
+            "lzcnt",
+            "movbe",
+            "xsave",
+            "avx512f",
+            "avx512bw",
+            "avx512cd",
+            "avx512dq",
+            "avx512vl",
+            "adx"
         );
     }
 }

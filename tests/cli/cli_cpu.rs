@@ -37,7 +37,10 @@ fn an_older_cpu_gets_a_clear_error_instead_of_an_illegal_instruction() {
     // AVX2, FMA or BMI; Haswell (2013): all of x86-64-v3.
     for (model, lacks) in [
         ("Nehalem", &["avx", "avx2", "fma", "bmi2"][..]),
-        ("SandyBridge", &["avx2", "fma", "bmi1", "bmi2", "f16c", "lzcnt", "movbe"][..]),
+        (
+            "SandyBridge",
+            &["avx2", "fma", "bmi1", "bmi2", "f16c", "lzcnt", "movbe"][..],
+        ),
     ] {
         let out = Command::new("qemu-x86_64")
             .args(["-cpu", model, env!("CARGO_BIN_EXE_spar"), "--version"])
