@@ -13,33 +13,31 @@
 
 use std::io::Write;
 
-/// The x86-64 features a build can be compiled with, as named in
-/// `RUSTFLAGS="-C target-feature=…"`, in the order of [`missing_mask`]'s
-/// bits.
+/// Calls macro `$then` with the x86-64 features a build can be compiled
+/// with, each as `index "name"` (the names of `RUSTFLAGS="-C
+/// target-feature=…"`; the index is its bit in [`missing_mask`]): the one
+/// list that the names, the check and the test share.
 #[cfg(target_arch = "x86_64")]
-const NAMES: [&str; 21] = [
-    "sse3",
-    "ssse3",
-    "sse4.1",
-    "sse4.2",
-    "popcnt",
-    "cmpxchg16b",
-    "avx",
-    "avx2",
-    "bmi1",
-    "bmi2",
-    "fma",
-    "f16c",
-    "lzcnt",
-    "movbe",
-    "xsave",
-    "avx512f",
-    "avx512bw",
-    "avx512cd",
-    "avx512dq",
-    "avx512vl",
-    "adx",
-];
+macro_rules! with_features {
+    ($then:ident) => {
+        $then!(
+            0 "sse3", 1 "ssse3", 2 "sse4.1", 3 "sse4.2", 4 "popcnt", 5 "cmpxchg16b", 6 "avx",
+            7 "avx2", 8 "bmi1", 9 "bmi2", 10 "fma", 11 "f16c", 12 "lzcnt", 13 "movbe", 14 "xsave",
+            15 "avx512f", 16 "avx512bw", 17 "avx512cd", 18 "avx512dq", 19 "avx512vl", 20 "adx"
+        )
+    };
+}
+
+#[cfg(target_arch = "x86_64")]
+macro_rules! names {
+    ($($i:literal $name:tt),*) => {
+        [$($name),*]
+    };
+}
+
+/// The features' names, in the order of [`missing_mask`]'s bits.
+#[cfg(target_arch = "x86_64")]
+const NAMES: [&str; 21] = with_features!(names);
 
 /// The CPU's feature bits as CPUID reports them: leaf 1 ECX, leaf 7
 /// (subleaf 0) EBX, leaf 0x8000_0001 ECX (Intel SDM vol. 2A, CPUID). Read
@@ -109,11 +107,7 @@ fn missing_mask() -> u32 {
             }
         )*};
     }
-    check!(
-        0 "sse3", 1 "ssse3", 2 "sse4.1", 3 "sse4.2", 4 "popcnt", 5 "cmpxchg16b", 6 "avx",
-        7 "avx2", 8 "bmi1", 9 "bmi2", 10 "fma", 11 "f16c", 12 "lzcnt", 13 "movbe", 14 "xsave",
-        15 "avx512f", 16 "avx512bw", 17 "avx512cd", 18 "avx512dq", 19 "avx512vl", 20 "adx",
-    );
+    with_features!(check);
     mask
 }
 
@@ -196,7 +190,7 @@ mod tests {
         // compiled in, the test machine must have it.
         let bits = cpuid_bits();
         macro_rules! agree {
-            ($($name:tt),*) => {$(
+            ($($i:literal $name:tt),*) => {$(
                 if !cfg!(target_feature = $name) {
                     assert_eq!(has($name, bits), std::arch::is_x86_feature_detected!($name), $name);
                 } else {
@@ -204,28 +198,6 @@ mod tests {
                 }
             )*};
         }
-        agree!(
-            "sse3",
-            "ssse3",
-            "sse4.1",
-            "sse4.2",
-            "popcnt",
-            "cmpxchg16b",
-            "avx",
-            "avx2",
-            "bmi1",
-            "bmi2",
-            "fma",
-            "f16c",
-            "lzcnt",
-            "movbe",
-            "xsave",
-            "avx512f",
-            "avx512bw",
-            "avx512cd",
-            "avx512dq",
-            "avx512vl",
-            "adx"
-        );
+        with_features!(agree);
     }
 }
