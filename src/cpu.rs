@@ -4,8 +4,8 @@
 //! On x86-64, spar is built for x86-64-v3 by default (`.cargo/config.toml`:
 //! AVX2, FMA, BMI1/2, F16C, LZCNT, MOVBE: every x86-64 CPU since Intel
 //! Haswell, 2013, and AMD Excavator, 2015). The renderer's f64 optics then
-//! take 8–12 % less CPU (docs/speed-vs-error.md, "Target 1 … built for
-//! x86-64-v3") and write the same images bit for bit, since Rust never
+//! take 8–13 % less CPU (docs/speed-vs-error.md, "Built for x86-64-v3")
+//! and write the same images bit for bit, since Rust never
 //! fuses a multiply and an add by itself. On an older CPU such a build
 //! would die on its first AVX instruction with "Illegal instruction"; the
 //! binary checks first ([`exit_if_unsupported`]) and says how to rebuild.
@@ -101,7 +101,7 @@ fn missing_mask() -> u32 {
     let bits = cpuid_bits();
     let mut mask = 0u32;
     macro_rules! check {
-        ($($i:literal $name:tt),* $(,)?) => {$(
+        ($($i:literal $name:tt),*) => {$(
             if cfg!(target_feature = $name) && !has($name, bits) {
                 mask |= 1 << $i;
             }
@@ -124,21 +124,26 @@ pub fn supported() -> bool {
     missing_mask() == 0
 }
 
+/// The message for a CPU that lacks features of the build, around the
+/// list of what it lacks: [`unsupported_message`] and
+/// [`exit_if_unsupported`] say the same words.
+const LACKS: &str = "this CPU lacks instructions this spar was built for (the default build \
+                     is for x86-64-v3: AVX2, FMA, x86-64 CPUs since 2013-2015); missing:";
+const REBUILD: &str = "Build spar for this CPU with: RUSTFLAGS=\"-C target-cpu=x86-64\" cargo \
+                       build --release\n(about a tenth slower; the same images bit for bit).";
+
 /// The message for a CPU that lacks features of the build: what is
 /// missing and how to build spar for that CPU.
 pub fn unsupported_message() -> String {
     let mask = missing_mask();
-    let missing: Vec<&str> = (0..NAMES.len())
-        .filter(|i| mask >> i & 1 == 1)
-        .map(|i| NAMES[i])
-        .collect();
-    format!(
-        "this CPU lacks instructions this spar was built for ({}; the default build \
-         is for x86-64-v3: AVX2, FMA, x86-64 CPUs since 2013-2015). Build it for this CPU with \
-         RUSTFLAGS=\"-C target-cpu=x86-64\" cargo build --release \
-         (about a tenth slower; the same images bit for bit)",
-        missing.join(", ")
-    )
+    let mut message = LACKS.to_string();
+    for (i, name) in NAMES.iter().enumerate() {
+        if mask >> i & 1 == 1 {
+            message.push(' ');
+            message.push_str(name);
+        }
+    }
+    format!("{message}.\n{REBUILD}")
 }
 
 /// Exits with status 2 and a message on standard error when this CPU
@@ -153,20 +158,17 @@ pub fn exit_if_unsupported() {
         return;
     }
     let mut err = std::io::stderr().lock();
-    let _ = err.write_all(
-        b"spar: error: this CPU lacks instructions this spar was built for (the default \
-          build is for x86-64-v3: AVX2, FMA, x86-64 CPUs since 2013-2015); missing:",
-    );
+    let _ = err.write_all(b"spar: error: ");
+    let _ = err.write_all(LACKS.as_bytes());
     for (i, name) in NAMES.iter().enumerate() {
         if mask >> i & 1 == 1 {
             let _ = err.write_all(b" ");
             let _ = err.write_all(name.as_bytes());
         }
     }
-    let _ = err.write_all(
-        b".\nBuild spar for this CPU with: RUSTFLAGS=\"-C target-cpu=x86-64\" cargo build \
-          --release\n(about a tenth slower; the same images bit for bit).\n",
-    );
+    let _ = err.write_all(b".\n");
+    let _ = err.write_all(REBUILD.as_bytes());
+    let _ = err.write_all(b"\n");
     let _ = err.flush();
     std::process::exit(2);
 }

@@ -25,7 +25,7 @@ fn spar_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     // 2011) the import dies before it (checked under QEMU; README).
     if !spar::cpu::supported() {
         return Err(pyo3::exceptions::PyImportError::new_err(format!(
-            "{}; for this module: RUSTFLAGS=\"-C target-cpu=x86-64\" pip install ./python",
+            "{}\nFor this module: RUSTFLAGS=\"-C target-cpu=x86-64\" pip install ./python",
             spar::cpu::unsupported_message()
         )));
     }
