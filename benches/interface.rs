@@ -1,7 +1,7 @@
 //! Interface solves per second (criterion): closed-form Fresnel, the same
-//! isotropic problem through the 4×4 solver, uniaxial forward solves, and
-//! the renderer's backward query for glass, calcite and a topaz-like
-//! biaxial crystal (the general eigenwave solver).
+//! isotropic problem through the 4×4 solver, uniaxial and biaxial forward
+//! solves, and the renderer's backward query for glass, calcite and a
+//! topaz-like biaxial crystal (the general eigenwave solver).
 //!
 //! Run: `cargo bench --no-default-features --bench interface`. Each
 //! iteration solves a batch of 1024 precomputed random configurations, so
@@ -160,6 +160,21 @@ fn bench(c: &mut Criterion) {
         },
     );
     group.throughput(Throughput::Elements(BATCH as u64));
+    group.bench_function(
+        BenchmarkId::new("biaxial forward solve", "air→topaz-like"),
+        |b| {
+            b.iter(|| {
+                let mut acc = 0.0;
+                for k in &k_air {
+                    acc += bx_in
+                        .solve(Side::Plus, Mode::S, black_box(*k))
+                        .unwrap()
+                        .energy_sum();
+                }
+                acc
+            })
+        },
+    );
     group.bench_function(BenchmarkId::new("backward query", "glass"), |b| {
         b.iter(|| {
             let mut acc = 0usize;

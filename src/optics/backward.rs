@@ -431,7 +431,8 @@ impl Interface {
         hint: Option<DVec3>,
         result: &mut Feeders,
     ) -> Result<(), InterfaceError> {
-        let out = self.outgoing_general(frame);
+        let waves = self.general_waves(frame);
+        let out = waves.outgoing;
         let base = 2 * side.index();
         let (first, rows) = if kind == WaveKind::Isotropic {
             (base, 2)
@@ -471,6 +472,7 @@ impl Interface {
             rows,
             first,
             w_flux,
+            incoming: waves.incoming,
             result,
         };
         with_full_system(&cols, feed).ok_or(InterfaceError::Singular)
@@ -486,6 +488,9 @@ struct FeedAny<'a> {
     rows: usize,
     first: usize,
     w_flux: [f64; 2],
+    /// Each biaxial side's incoming waves, from the solve that gave the
+    /// outgoing ones.
+    incoming: [Option<[Eigenwave; 2]>; 2],
     result: &'a mut Feeders,
 }
 
@@ -500,15 +505,16 @@ impl WithSystem for FeedAny<'_> {
             rows,
             first,
             w_flux,
+            incoming: biaxial_incoming,
             result,
         } = self;
         for cand_side in [side, side.opposite()] {
             let medium = iface.medium(cand_side);
             let sigma = cand_side.sign();
-            let incoming: [Option<Eigenwave>; 2] = if medium.is_biaxial() {
-                super::anisotropic::waves(medium, frame, cand_side)
-                    .incoming
-                    .map(Some)
+            let incoming: [Option<Eigenwave>; 2] = if let Some(pair) =
+                biaxial_incoming[cand_side.index()]
+            {
+                pair.map(Some)
             } else {
                 Mode::pair_of(medium)
                     .map(|mode| Eigenwave::new(medium, frame, cand_side, Travel::Incoming, mode))

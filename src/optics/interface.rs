@@ -259,19 +259,32 @@ impl Interface {
     /// The outgoing waves when a side is biaxial: that side's from Booker's
     /// quartic, the other side's from its sheets.
     pub(crate) fn outgoing_general(&self, frame: &TangentFrame) -> [Eigenwave; 4] {
-        let pair = |side: Side| -> [Eigenwave; 2] {
+        self.general_waves(frame).outgoing
+    }
+
+    /// [`Interface::outgoing_general`] with the incoming waves of each
+    /// biaxial side, which the same solve of Booker's quartic gives: a
+    /// caller that needs both (an incident wave, the backward query's
+    /// candidates) solves each biaxial side once, not twice.
+    pub(crate) fn general_waves(&self, frame: &TangentFrame) -> GeneralWaves {
+        let pair = |side: Side| -> ([Eigenwave; 2], Option<[Eigenwave; 2]>) {
             let m = self.medium(side);
             if m.is_biaxial() {
-                return super::anisotropic::waves(m, frame, side).outgoing;
+                let w = super::anisotropic::waves(m, frame, side);
+                return (w.outgoing, Some(w.incoming));
             }
-            Mode::pair_of(m).map(|mode| {
+            let out = Mode::pair_of(m).map(|mode| {
                 let sheet = Sheet::new(m, mode.kind(), frame);
                 Eigenwave::on_sheet(m, frame, &sheet, side, Travel::Outgoing, mode, side.sign())
-            })
+            });
+            (out, None)
         };
-        let [p0, p1] = pair(Side::Plus);
-        let [m0, m1] = pair(Side::Minus);
-        [p0, p1, m0, m1]
+        let ([p0, p1], p_in) = pair(Side::Plus);
+        let ([m0, m1], m_in) = pair(Side::Minus);
+        GeneralWaves {
+            outgoing: [p0, p1, m0, m1],
+            incoming: [p_in, m_in],
+        }
     }
 
     /// The sheets `[side][mode]` at this frame (an isotropic medium's s and
@@ -418,9 +431,13 @@ impl Interface {
         mode: Mode,
         frame: &TangentFrame,
     ) -> Result<Scattering, InterfaceError> {
-        let incident = eigenwave(self.medium(side), frame, side, Travel::Incoming, mode)
-            .ok_or(InterfaceError::NoSuchWave)?;
-        let out = self.outgoing_general(frame);
+        let waves = self.general_waves(frame);
+        let incident = match waves.incoming[side.index()] {
+            Some(pair) => incident_of(pair, mode),
+            None => eigenwave(self.medium(side), frame, side, Travel::Incoming, mode),
+        }
+        .ok_or(InterfaceError::NoSuchWave)?;
+        let out = waves.outgoing;
         let cols = [0, 1, 2, 3].map(|j| Column::of(frame, &out[j]));
         let sgn = -incident.side.sign();
         let rhs = Column::Complex(tangential(frame, incident.e, incident.h).map(|x| x * sgn));
@@ -489,12 +506,30 @@ pub(crate) fn eigenwave(
         return Eigenwave::new(medium, frame, side, travel, mode);
     }
     let w = super::anisotropic::waves(medium, frame, side);
-    let pair = match travel {
-        Travel::Outgoing => w.outgoing,
-        Travel::Incoming => w.incoming,
-    };
-    let wave = pair.into_iter().find(|w| w.mode == mode)?;
-    (travel == Travel::Outgoing || !wave.evanescent).then_some(wave)
+    match travel {
+        Travel::Outgoing => w.outgoing.into_iter().find(|w| w.mode == mode),
+        Travel::Incoming => incident_of(w.incoming, mode),
+    }
+}
+
+/// The incident wave of name `mode` among a biaxial side's two incoming
+/// waves (an incident wave must propagate).
+fn incident_of(incoming: [Eigenwave; 2], mode: Mode) -> Option<Eigenwave> {
+    incoming
+        .into_iter()
+        .find(|w| w.mode == mode)
+        .filter(|w| !w.evanescent)
+}
+
+/// The waves of an interface with a biaxial side
+/// ([`Interface::general_waves`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct GeneralWaves {
+    /// `[+ mode₀, + mode₁, − mode₀, − mode₁]`, as [`Interface::outgoing_waves`].
+    pub outgoing: [Eigenwave; 4],
+    /// The incoming pair (fast first) of each side `[+, −]` that is
+    /// biaxial; `None` for a side whose waves come from its sheets.
+    pub incoming: [Option<[Eigenwave; 2]>; 2],
 }
 
 /// Position of `mode` in its medium's pair (`[s, p]` or `[o, e]`).
