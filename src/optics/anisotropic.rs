@@ -143,6 +143,38 @@ impl Tensor {
         })
     }
 
+    /// Starting points for the quartic's roots: `±√(n² − T²)` for the
+    /// smallest and largest principal index `n` (each root is within the
+    /// birefringence of one of them), shifted by the centre of the roots
+    /// `−ε_tN/(2 ε_NN)`, off the real axis by a little (a real polynomial
+    /// keeps real iterates real) and `None` where the two indices meet (the
+    /// iteration needs distinct starts).
+    fn starts(&self, frame: &TangentFrame) -> Option<[Complex64; 4]> {
+        let (lo, hi) = (1.0 / self.v_hi, 1.0 / self.v_lo);
+        if !(hi - lo > 1e-6 * hi) {
+            return None;
+        }
+        let en = self.eps * frame.normal;
+        let centre = -frame.t.dot(en) / (2.0 * frame.normal.dot(en));
+        let q = |n2: f64, sign: f64, tilt: f64| {
+            let d = n2 - frame.tt;
+            let r = d.abs().sqrt();
+            let z = if d >= 0.0 {
+                Complex64::new(sign * r, tilt * r)
+            } else {
+                Complex64::new(tilt * r, sign * r)
+            };
+            z + centre
+        };
+        let t = 0.001;
+        Some([
+            q(lo, 1.0, t),
+            q(hi, 1.0, -t),
+            q(lo, -1.0, -t),
+            q(hi, -1.0, t),
+        ])
+    }
+
     /// [`Tensor::w_rows`] for a real `k`.
     #[inline]
     fn w_rows_real(&self, k: DVec3) -> [DVec3; 3] {
@@ -248,16 +280,19 @@ fn polish(c: &[f64; 5], mut z: Complex64, real: bool) -> Complex64 {
 
 /// The four complex roots of the quartic (Aberth–Ehrlich simultaneous
 /// iteration), unpolished.
-fn aberth(c: &[f64; 5]) -> [Complex64; 4] {
+fn aberth(c: &[f64; 5], start: Option<[Complex64; 4]>) -> [Complex64; 4] {
     let a: [f64; 4] = [c[0] / c[4], c[1] / c[4], c[2] / c[4], c[3] / c[4]];
-    let centre = -a[3] / 4.0;
-    // A radius of the order of the roots' moduli (Fujiwara's bound).
-    let r = (0..4)
-        .map(|i| a[i].abs().powf(1.0 / (4 - i) as f64))
-        .fold(0.0, f64::max)
-        .max(1e-3);
-    let mut z: [Complex64; 4] = [0, 1, 2, 3]
-        .map(|j| Complex64::from_polar(r, 0.4 + std::f64::consts::FRAC_PI_2 * j as f64) + centre);
+    let mut z = start.unwrap_or_else(|| {
+        let centre = -a[3] / 4.0;
+        // A radius of the order of the roots' moduli (Fujiwara's bound).
+        let r = (0..4)
+            .map(|i| a[i].abs().powf(1.0 / (4 - i) as f64))
+            .fold(0.0, f64::max)
+            .max(1e-3);
+        [0, 1, 2, 3].map(|j| {
+            Complex64::from_polar(r, 0.4 + std::f64::consts::FRAC_PI_2 * j as f64) + centre
+        })
+    });
     let mut last = f64::INFINITY;
     for _ in 0..200 {
         let mut moved = 0.0f64;
@@ -295,8 +330,12 @@ fn aberth(c: &[f64; 5]) -> [Complex64; 4] {
 /// a point `q` of the line is a singular point of the wave-vector surface
 /// (`∇ det W = 0`: an optic axis, or the isotropic limit), where a cluster
 /// of two roots is a pair of real roots that travel the same way.
-fn roots(c: &[f64; 5], singular: impl Fn(f64) -> bool) -> [Complex64; 4] {
-    let mut z = aberth(c);
+fn roots(
+    c: &[f64; 5],
+    start: Option<[Complex64; 4]>,
+    singular: impl Fn(f64) -> bool,
+) -> [Complex64; 4] {
+    let mut z = aberth(c, start);
     z.sort_by(|a, b| a.re.total_cmp(&b.re));
     let near = |a: Complex64, b: Complex64| (a - b).norm() <= CLUSTER * (1.0 + a.norm());
     let mut out = z;
@@ -540,7 +579,7 @@ pub fn waves(medium: &Medium, frame: &TangentFrame, side: Side) -> Waves {
         let scale = (k.length_squared() + tensor.eps.x_axis.length()).powi(2) * k.length().max(1.0);
         g.length() <= 1e-3 * scale
     };
-    let qs = roots(&c, singular);
+    let qs = roots(&c, tensor.starts(frame), singular);
     let mut rs: [Root; 4] = qs.map(|q| {
         let (q, k, e) = refine(&tensor, frame, q);
         Root {
