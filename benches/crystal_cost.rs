@@ -1,7 +1,8 @@
 //! What a crystal costs against glass at equal error (issue 13's target
 //! 2): the round brilliant of benches/bundle.rs (`spar cut
 //! round-brilliant` over the checker light, 21 wavelengths with
-//! dispersion, depth 30, pruning 1e-4) in N-BK7, quartz and calcite, each
+//! dispersion, depth 30, pruning 1e-4) in N-BK7, quartz and calcite (or
+//! the media SPAR_BENCH_MEDIA names), each
 //! rendered with the exact tree at two seeds and with Russian roulette at
 //! several thresholds; on all cores. Prints, per row, median CPU seconds
 //! (user + system of the process), rays, the row's own error and its cost
@@ -22,6 +23,9 @@
 //!     cargo bench --bench crystal_cost
 //!     SPAR_BENCH_SIZE=256 SPAR_BENCH_COHERENCE=physical cargo bench --bench crystal_cost
 //!
+//! SPAR_BENCH_MEDIA (comma-separated catalogue media rendered beside
+//! N-BK7, default quartz,calcite; e.g. topaz for a biaxial stone, its
+//! crystal z where the others have their optic axis),
 //! SPAR_BENCH_SIZE (default 128), SPAR_BENCH_REPEATS (default 1; the
 //! seed-1 rows are rendered once, for σ), SPAR_BENCH_COHERENCE
 //! (incoherent, as benches/bundle.rs and scenes/quartz-brilliant.toml; or
@@ -84,8 +88,21 @@ fn main() {
         .filter_map(|s| s.trim().parse().ok())
         .filter(|b: &f64| *b > 0.0)
         .collect();
+    // N-BK7 first: the last column divides by its cheapest row.
+    let mut media: Vec<&'static str> = vec!["n-bk7"];
+    let list = std::env::var("SPAR_BENCH_MEDIA").unwrap_or_else(|_| "quartz,calcite".into());
+    for name in list.split(',').map(str::trim).filter(|n| !n.is_empty()) {
+        if spar::material::Material::parse(name).is_err() {
+            eprintln!("crystal_cost: SPAR_BENCH_MEDIA: `{name}` is not a catalogue medium");
+            std::process::exit(2);
+        }
+        if !media.contains(&name) {
+            media.push(Box::leak(name.to_string().into_boxed_str()));
+        }
+    }
     let mut rows = Vec::new();
-    for medium in ["n-bk7", "quartz", "calcite"] {
+    for medium in media {
+        let uniaxial = spar::material::Material::parse(medium).is_ok_and(|m| m.is_uniaxial());
         for seed in [0, 1] {
             rows.push(Row {
                 medium,
@@ -102,7 +119,8 @@ fn main() {
                 seed: 0,
             });
         }
-        if medium != "n-bk7" && coherence == "incoherent" {
+        // o/e bundles are for uniaxial crystals.
+        if uniaxial && coherence == "incoherent" {
             for &bundle in &bundles {
                 for &roulette in &thresholds {
                     rows.push(Row {

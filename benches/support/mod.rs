@@ -46,15 +46,19 @@ pub fn errors(exact: &Film, other: &Film, at: usize) -> [f64; 2] {
 }
 
 /// The quartz-brilliant bench scene (`scenes/quartz-brilliant.toml`'s
-/// stone, camera and checker light) at `size`² in `medium` (an optic axis
-/// for any medium but N-BK7), 21 wavelengths, depth 30, and the
+/// stone, camera and checker light) at `size`² in `medium` (a uniaxial
+/// medium's optic axis, or a biaxial one's crystal z, along (0, 0.6, 0.8);
+/// nothing for an isotropic one), 21 wavelengths, depth 30, and the
 /// `[render]` keys `render_keys` (one per line).
 #[allow(dead_code)] // used by the bundle and crystal_cost benches only
 pub fn brilliant_scene(medium: &str, size: u32, render_keys: &str) -> String {
-    let axis = if medium == "n-bk7" {
-        ""
-    } else {
+    let material = spar::material::Material::parse(medium).expect("a catalogue medium");
+    let axis = if material.is_biaxial() {
+        "crystal_axes = { z = [0.0, 0.6, 0.8], x = [1.0, 0.0, 0.0] }"
+    } else if material.is_uniaxial() {
         "optic_axis = [0.0, 0.6, 0.8]"
+    } else {
+        ""
     };
     format!(
         r#"
