@@ -911,6 +911,32 @@ pub fn optic_axes(medium: &Medium) -> Option<[DVec3; 2]> {
 mod tests {
     use super::*;
 
+    /// Uniform numbers in [−1, 1) from a 64-bit LCG (Knuth's MMIX
+    /// constants): reproducible cases without a dependency.
+    fn lcg(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64) / (1u64 << 53) as f64 * 2.0 - 1.0
+        }
+    }
+
+    /// Case `i` of a random biaxial solve: topaz-like indices (even `i`) or
+    /// any in [1.3, 1.9], random crystal axes, normal and tangential
+    /// component (up to `t_scale` per coordinate).
+    fn random_solve(r: &mut impl FnMut() -> f64, i: usize, t_scale: f64) -> (Tensor, TangentFrame) {
+        let n = if i % 2 == 0 {
+            [1.6093, 1.6116, 1.6194]
+        } else {
+            [0, 1, 2].map(|_| 1.3 + 0.6 * (r() + 1.0))
+        };
+        let m = Medium::biaxial(n, DVec3::new(r(), r(), r()), DVec3::new(r(), r(), r())).unwrap();
+        let normal = DVec3::new(r(), r(), r()).normalize();
+        let frame = TangentFrame::new(normal, DVec3::new(r(), r(), r()) * t_scale);
+        (Tensor::of(&m), frame)
+    }
+
     #[test]
     fn bookers_quartic_is_the_determinant_of_w() {
         // det W(t + qN) as a 3×3 determinant at several q, against the
@@ -928,6 +954,7 @@ mod tests {
             assert!((w.determinant() - p).abs() < 1e-12 * (1.0 + p.abs()), "{q}");
         }
     }
+
     #[test]
     fn the_real_null_vector_is_the_complex_one_bit_for_bit() {
         // W(k) of real wave vectors near and on the wave surfaces of a
@@ -940,13 +967,7 @@ mod tests {
         )
         .unwrap();
         let glass = Medium::Isotropic { n: 1.5 };
-        let mut seed = 7u64;
-        let mut r = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((seed >> 11) as f64) / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut r = lcg(7);
         let (mut some, mut none) = (0, 0);
         for i in 0..4000 {
             let u = DVec3::new(r(), r(), r()).normalize();
@@ -976,31 +997,17 @@ mod tests {
         }
         assert!(some > 2000 && none > 500, "{some} {none}");
     }
+
     #[test]
     fn roots_from_the_index_starts_are_the_roots_from_the_circle() {
         // The quartic's roots found from the extreme indices' starts
         // (`Tensor::starts`) and from Aberth's usual circle, each refined on
         // W(k): the same four roots, propagating and evanescent, for
         // topaz-like and strongly biaxial media at every incidence.
-        let mut seed = 99u64;
-        let mut r = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((seed >> 11) as f64) / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut r = lcg(99);
         let (mut worst, mut complex) = (0.0f64, 0);
         for i in 0..20_000 {
-            let n = if i % 2 == 0 {
-                [1.6093, 1.6116, 1.6194]
-            } else {
-                [0, 1, 2].map(|_| 1.3 + 0.6 * (r() + 1.0))
-            };
-            let m =
-                Medium::biaxial(n, DVec3::new(r(), r(), r()), DVec3::new(r(), r(), r())).unwrap();
-            let tensor = Tensor::of(&m);
-            let normal = DVec3::new(r(), r(), r()).normalize();
-            let frame = TangentFrame::new(normal, DVec3::new(r(), r(), r()) * 2.0);
+            let (tensor, frame) = random_solve(&mut r, i, 2.0);
             let c = tensor.quartic(&frame);
             let key = |z: &Complex64| ((z.re * 1e6).round() as i64, (z.im * 1e6).round() as i64);
             let solve = |start| roots(&c, start, |_| false).map(|q| refine(&tensor, &frame, q).0);
@@ -1015,6 +1022,7 @@ mod tests {
         assert!(complex > 10_000, "{complex}");
         assert!(worst < 1e-12, "{worst}");
     }
+
     #[test]
     fn refined_real_roots_are_fixed_points_of_the_double_double_step() {
         // `refine` may stop after a small step without a confirming one;
@@ -1022,25 +1030,11 @@ mod tests {
         // double-double Rayleigh quotient (with the field at that root)
         // moves it by rounding only, for every propagating root of random
         // topaz-like and strongly biaxial media.
-        let mut seed = 5u64;
-        let mut r = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((seed >> 11) as f64) / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut r = lcg(5);
         let (mut worst, mut count) = (0.0f64, 0);
         for i in 0..20_000 {
-            let n = if i % 2 == 0 {
-                [1.6093, 1.6116, 1.6194]
-            } else {
-                [0, 1, 2].map(|_| 1.3 + 0.6 * (r() + 1.0))
-            };
-            let m =
-                Medium::biaxial(n, DVec3::new(r(), r(), r()), DVec3::new(r(), r(), r())).unwrap();
-            let tensor = Tensor::of(&m);
-            let normal = DVec3::new(r(), r(), r()).normalize();
-            let frame = TangentFrame::new(normal, DVec3::new(r(), r(), r()) * 1.2);
+            let (tensor, frame) = random_solve(&mut r, i, 1.2);
+            let normal = frame.normal;
             let c = tensor.quartic(&frame);
             for q0 in roots(&c, tensor.starts(&frame), |_| false) {
                 let (q, k, e) = refine(&tensor, &frame, q0);
