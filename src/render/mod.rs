@@ -381,9 +381,24 @@ pub fn render_part(
     } else {
         indicatif::ProgressBar::hidden()
     };
+    // Centre tiles first: a stone's costliest tiles are usually there, and
+    // a costly tile started last leaves the other threads idle while it
+    // finishes (rayon cannot split a tile). Values do not depend on the
+    // order.
     let todo: Vec<usize> = {
         let slots = done.lock().expect("not poisoned");
-        (0..total_tiles).filter(|&i| slots[i].is_none()).collect()
+        let mut todo: Vec<usize> = (0..total_tiles).filter(|&i| slots[i].is_none()).collect();
+        let (cx, cy) = (
+            spec.region.x0 as i64 + spec.region.x1 as i64,
+            spec.region.y0 as i64 + spec.region.y1 as i64,
+        );
+        todo.sort_by_key(|&i| {
+            let t = grid[i];
+            let dx = t.x0 as i64 + t.x1 as i64 - cx;
+            let dy = t.y0 as i64 + t.y1 as i64 - cy;
+            (dx * dx + dy * dy, i)
+        });
+        todo
     };
     let stopped = |flag: Option<&AtomicBool>| flag.is_some_and(|f| f.load(Ordering::SeqCst));
 
