@@ -198,6 +198,13 @@ pub struct SceneOverrides {
     /// (default 32, at least 2). Overrides the scene.
     #[arg(long, value_name = "N")]
     pub min_samples: Option<u32>,
+    /// Edge-adaptive sampling: every pixel takes --min-samples samples,
+    /// and only a pixel that then differs from one of its eight neighbours
+    /// by more than CONTRAST (display units: colour as sRGB values in
+    /// 0..1, polarization as the normalized Stokes vector) takes all
+    /// --samples. 0: off. Overrides the scene.
+    #[arg(long, value_name = "CONTRAST")]
+    pub edges: Option<f64>,
     /// Spectral sampling of the colour wavelengths: all (every one for
     /// every sample) or hero:K (K stratified wavelengths per sample,
     /// rotating over runs of samples), either optionally followed by /N: colour
@@ -278,6 +285,7 @@ impl SceneOverrides {
             roulette: set(self.roulette, "--roulette", origin),
             adaptive: set(self.adaptive, "--adaptive", origin),
             min_samples: set(self.min_samples, "--min-samples", origin),
+            edges: set(self.edges, "--edges", origin),
         };
         [self.quality.map(Quality::layer).unwrap_or_default(), flags]
     }
@@ -316,6 +324,14 @@ impl SceneOverrides {
                      sampling on (adaptive = {}): each pixel decides from all its samples; split \
                      the render by region or tiles instead, or set --adaptive 0",
                     scene.settings.adaptive.noise
+                )))
+            }
+            Some(SamplesArg::Block { start, end, .. }) if scene.settings.adaptive.edges_on() => {
+                Err(CliError::input(format!(
+                    "--samples {start}..{end}: a sample block cannot be rendered with edge-adaptive \
+                     sampling on (edges = {}): each pixel decides from its own and its neighbours' \
+                     first samples; split the render by region or tiles instead, or set --edges 0",
+                    scene.settings.adaptive.edges
                 )))
             }
             Some(SamplesArg::Block { start, end, .. }) => {
@@ -419,6 +435,9 @@ impl SceneOverrides {
         }
         if let Some(n) = self.min_samples {
             a.extend(["--min-samples".into(), n.to_string()]);
+        }
+        if let Some(e) = self.edges {
+            a.extend(["--edges".into(), e.to_string()]);
         }
         if let Some(r) = self.light_rig {
             a.extend(["--light-rig".into(), r.to_string()]);

@@ -616,7 +616,14 @@ fn print_summary(
     render_time: Duration,
 ) {
     let secs = render_time.as_secs_f64();
-    let samples = if options.adaptive.is_on() {
+    let samples = if options.adaptive.edges_on() {
+        format!(
+            "{} (edges {}: {:.2} per pixel)",
+            job.spec.samples.label(),
+            options.adaptive.edges,
+            stats.samples as f64 / job.spec.region.area().max(1) as f64
+        )
+    } else if options.adaptive.is_on() {
         format!(
             "{} (adaptive {}: {:.2} per pixel)",
             job.spec.samples.label(),

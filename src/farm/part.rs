@@ -150,6 +150,12 @@ impl RenderInfo {
                         adaptive.noise, adaptive.min_samples
                     );
                 }
+                if adaptive.edges_on() {
+                    s += &format!(
+                        " edges={} min_samples={}",
+                        adaptive.edges, adaptive.min_samples
+                    );
+                }
                 s
             },
         }

@@ -62,6 +62,11 @@ pub struct Adaptive {
     pub noise: f64,
     /// Samples every pixel takes before its first check (at least 2).
     pub min_samples: u32,
+    /// Edge-adaptive sampling's contrast threshold (0: off): after
+    /// `min_samples` samples, a pixel goes on only if what it shows
+    /// differs from one of its eight neighbours by more than this, in
+    /// display units ([`contrast`]).
+    pub edges: f64,
 }
 
 /// Default samples before a pixel's first check.
@@ -72,14 +77,27 @@ impl Default for Adaptive {
         Adaptive {
             noise: 0.0,
             min_samples: DEFAULT_MIN_SAMPLES,
+            edges: 0.0,
         }
     }
 }
 
 impl Adaptive {
-    /// Whether pixels stop early.
+    /// Whether pixels stop early on their own noise.
     pub fn is_on(&self) -> bool {
         self.noise > 0.0
+    }
+
+    /// Whether pixels away from edges stop at `min_samples`.
+    pub fn edges_on(&self) -> bool {
+        self.edges > 0.0
+    }
+
+    /// Whether a pixel's sample count is decided while it renders (by its
+    /// noise, its neighbours or both): it then needs all its samples in
+    /// one part.
+    pub fn decides(&self) -> bool {
+        self.is_on() || self.edges_on()
     }
 
     /// Whether a pixel that has taken `taken` of `total` samples checks
@@ -255,6 +273,61 @@ impl PixelNoise {
     }
 }
 
+/// The number of values [`PixelNoise::shown`] gives.
+pub const SHOWN: usize = 10;
+
+impl PixelNoise {
+    /// What the pixel's mean shows, as edge-adaptive sampling compares it
+    /// with its neighbours': the colour's sRGB-encoded R, G, B in [0, 1];
+    /// its polarization as the luminance Stokes vector over Y0 (the
+    /// normalized Stokes vector, whose length is the DoP); the single
+    /// wavelength's encoded intensity and its normalized Stokes vector.
+    /// Quantities the render does not trace, and the polarization of a
+    /// pixel darker than [`DARKEST`], are 0.
+    pub fn shown(&self, measure: &NoiseMeasure) -> [f64; SHOWN] {
+        let mut v = [0.0; SHOWN];
+        if self.n == 0 {
+            return v;
+        }
+        let n = self.n as f64;
+        let mean = |k: usize| self.sum[k] / n;
+        let shown = |x: f64| srgb::encode(x.clamp(0.0, 1.0));
+        let normalized = |v: &mut [f64], first: usize, intensity: f64| {
+            if intensity > DARKEST {
+                for (c, x) in v.iter_mut().enumerate() {
+                    *x = mean(first + c) / intensity;
+                }
+            }
+        };
+        if !measure.colour.is_empty() {
+            for (k, x) in v[..3].iter_mut().enumerate() {
+                *x = shown(mean(k));
+            }
+            let y0: f64 = (0..3).map(|k| LUMINANCE[k] * mean(k)).sum();
+            normalized(&mut v[3..6], 3, y0);
+        }
+        if measure.mono.is_some() {
+            v[6] = shown(mean(MONO));
+            normalized(&mut v[7..10], MONO + 1, mean(MONO));
+        }
+        v
+    }
+}
+
+/// How much two pixels' [`PixelNoise::shown`] values differ: the largest
+/// difference of a displayed value (R, G, B, the single wavelength's
+/// intensity) or of a normalized Stokes vector (the length of their
+/// difference: a change of DoP, angle or ellipticity).
+pub fn contrast(a: &[f64; SHOWN], b: &[f64; SHOWN]) -> f64 {
+    let d = |k: usize| (a[k] - b[k]).abs();
+    let vector = |first: usize| (first..first + 3).map(|k| d(k) * d(k)).sum::<f64>().sqrt();
+    d(0).max(d(1))
+        .max(d(2))
+        .max(vector(3))
+        .max(d(6))
+        .max(vector(7))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -264,6 +337,7 @@ mod tests {
         let a = Adaptive {
             noise: 0.01,
             min_samples: 4,
+            edges: 0.0,
         };
         let at: Vec<u32> = (1..=64).filter(|&t| a.checks_at(t, 64)).collect();
         assert_eq!(at, [4, 8, 16, 32]);
@@ -272,6 +346,7 @@ mod tests {
         let b = Adaptive {
             noise: 0.01,
             min_samples: 6,
+            edges: 0.0,
         };
         let at: Vec<u32> = (1..=100).filter(|&t| b.checks_at(t, 100)).collect();
         assert_eq!(at, [6, 12, 24, 48, 96]);
@@ -309,6 +384,40 @@ mod tests {
             let got = chi_square_lower_5(k);
             assert!((got / table - 1.0).abs() < tol, "k = {k}: {got} vs {table}");
         }
+    }
+
+    /// What a pixel shows, against the sRGB curve written out (IEC
+    /// 61966-2-1: 1.055 x^(1/2.4) − 0.055 above 0.0031308) and the
+    /// normalized Stokes vector by hand; the contrast of two pixels of
+    /// equal intensity and perpendicular polarizations is the length of
+    /// the difference of their normalized Stokes vectors.
+    #[test]
+    fn shown_values_and_contrast_match_the_display_curve_and_the_stokes_vector() {
+        let m = NoiseMeasure::new(vec![], Some((0, 2.0)));
+        let pixel = |s: [f32; 4]| {
+            let mut p = PixelNoise::default();
+            p.push(&m, &s);
+            p.push(&m, &s);
+            p.shown(&m)
+        };
+        // S0 = 0.5 over D65 = 2: I = 0.25; S1 / S0 = 0.4.
+        let a = pixel([0.5, 0.2, 0.0, 0.0]);
+        let b = pixel([0.5, 0.0, 0.2, 0.0]);
+        let encoded = 1.055 * 0.25f64.powf(1.0 / 2.4) - 0.055;
+        assert!((a[6] - encoded).abs() < 1e-12, "{}", a[6]);
+        assert!(
+            (a[7] - 0.4).abs() < 1e-7 && a[8] == 0.0 && a[9] == 0.0,
+            "{a:?}"
+        );
+        assert_eq!(a[..6], [0.0; 6], "no colour traced");
+        let c = contrast(&a, &b);
+        assert!((c - 0.32f64.sqrt()).abs() < 1e-7, "{c}");
+        assert_eq!(contrast(&a, &a), 0.0);
+        // A dark pixel shows no polarization, so its neighbour's DoP alone
+        // is not an edge; its intensity is.
+        let dark = pixel([1e-5, 1e-5, 0.0, 0.0]);
+        assert_eq!(dark[7], 0.0);
+        assert!((contrast(&a, &dark) - encoded).abs() < 1e-3);
     }
 
     #[test]

@@ -21,6 +21,7 @@ pub mod blocks;
 pub mod bundle;
 pub mod camera;
 pub mod coherent;
+mod edges;
 pub mod film;
 pub mod integrator;
 pub mod light;
@@ -60,6 +61,24 @@ use sampling::{dim, SampleKey};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
 use world::Scene;
+
+/// One thread's buffers for rendering a pixel's samples.
+struct PixelScratch {
+    acc: Accumulator,
+    noise: PixelNoise,
+    /// One coherence matrix per wavelength of a batch.
+    out: Vec<Coherence>,
+}
+
+impl PixelScratch {
+    fn new(channels: usize, wavelengths: usize) -> PixelScratch {
+        PixelScratch {
+            acc: Accumulator::new(channels),
+            noise: PixelNoise::default(),
+            out: vec![Coherence::zero(2); wavelengths],
+        }
+    }
+}
 
 /// Side of the square tiles rayon distributes.
 pub const TILE: u32 = 16;
@@ -334,7 +353,8 @@ pub fn render_part(
     let linear = tracer.estimates_may_be_unphysical();
     let nch = opts.lambdas.len() * 4;
     let nodes = spec.samples.nodes();
-    let measure = opts.adaptive.is_on().then(|| {
+    let adaptive = opts.adaptive;
+    let measure = adaptive.decides().then(|| {
         assert!(
             spec.samples.is_all(),
             "adaptive sampling needs every sample of a pixel in one part, not {}",
@@ -347,8 +367,128 @@ pub fn render_part(
     // strata cycle over them, or over the first check's (a pixel may stop
     // there).
     let traced = spectral.colour_samples(total);
-    let first_check = measure.as_ref().map(|_| opts.adaptive.min_samples);
+    let first_check = measure.as_ref().map(|_| adaptive.min_samples);
     let period = approx::stratum_period(stride, traced, first_check);
+
+    // Samples `from..to` of pixel (x, y), pushed onto `acc` (and `noise`),
+    // stopping after the first sample for which `stop(taken, noise)` holds;
+    // returns the samples taken then.
+    let run = |x: u32,
+               y: u32,
+               from: u32,
+               to: u32,
+               scratch: &mut PixelScratch,
+               stats: &mut Stats,
+               stop: &dyn Fn(u32, &PixelNoise) -> bool|
+     -> Option<u32> {
+        let PixelScratch { acc, noise, out } = scratch;
+        // The colour stratum of sample 0: random per pixel, then runs of
+        // consecutive samples in rotation, so each stratum's samples spread
+        // over the pixel.
+        let first = if stride > 1 {
+            let key = SampleKey {
+                seed: opts.seed,
+                pixel: y as u64 * w as u64 + x as u64,
+                sample: 0,
+            };
+            (key.uniform(dim::WAVELENGTH) * stride as f64) as usize
+        } else {
+            0
+        };
+        for sample in from..to {
+            let key = SampleKey {
+                seed: opts.seed,
+                pixel: y as u64 * w as u64 + x as u64,
+                sample,
+            };
+            let stratum = if sample < traced {
+                approx::stratum_of(stride, first, period, sample as usize)
+            } else {
+                stride
+            };
+            // A thinned-out colour wavelength stands for the samples that
+            // do not trace it. A pixel that may stop early does not know
+            // its sample count, so it weighs by the stride.
+            let colour_weight =
+                approx::stratum_weight(stride, first, traced, total, measure.is_none(), stratum);
+            let (jx, jy) = match camera.sampling {
+                camera::PixelSampling::Jittered => key.pixel_position(),
+                camera::PixelSampling::Center => (0.5, 0.5),
+            };
+            let (fx, fy) = (x as f64 + jx, y as f64 + jy);
+            let (eye, d) = camera.ray(fx, fy);
+            let (bx, by) = camera.stokes_frame(d);
+            let leaf = Node {
+                start: sample as u64,
+                len: 1,
+            };
+            // Every batch of wavelengths starts from the same first
+            // surface.
+            let hit = tracer.camera_hit(eye, d);
+            acc.push_with(leaf, |v| {
+                for (idx, batch) in &batches[stratum] {
+                    let out = &mut out[..idx.len()];
+                    tracer.trace_camera_from(&hit, [bx, by], batch, &key, out, stats);
+                    for (&i, j) in idx.iter().zip(out.iter()) {
+                        let w = if i < colour { colour_weight } else { 1.0 };
+                        let j = match &camera.analyzer {
+                            Some(a) => j.transform(a),
+                            None => *j,
+                        };
+                        let s = if linear {
+                            j.stokes_linear()
+                        } else {
+                            j.stokes()
+                        };
+                        v[4 * i..4 * i + 4].copy_from_slice(&[
+                            (w * s.s0) as f32,
+                            (w * s.s1) as f32,
+                            (w * s.s2) as f32,
+                            (w * s.s3) as f32,
+                        ]);
+                    }
+                }
+                if let Some(m) = &measure {
+                    noise.push(m, v);
+                }
+            });
+            if stop(sample + 1, noise) {
+                return Some(sample + 1);
+            }
+        }
+        None
+    };
+    // A pixel's own noise stops it at a check (adaptive sampling).
+    let noise_stops = |taken: u32, noise: &PixelNoise| {
+        adaptive.is_on()
+            && adaptive.checks_at(taken, total)
+            && measure
+                .as_ref()
+                .is_some_and(|m| noise.error(m) <= adaptive.noise)
+    };
+    // Edge-adaptive sampling: every pixel of the region and of a
+    // one-pixel border around it (whose values a region's edge pixels are
+    // compared with) takes its first samples; the region's pixels keep
+    // their sums to go on from.
+    let base = adaptive.min_samples.max(2).min(total);
+    let mut stats = Stats::default();
+    let edges = match &measure {
+        Some(m) if adaptive.edges_on() && base < total => {
+            let pass = edges::first_samples(
+                spec.region,
+                w,
+                camera.height,
+                nch,
+                &mut stats,
+                |x, y, sc, st| {
+                    run(x, y, 0, base, sc, st, &|_, _| false);
+                    sc.noise.shown(m)
+                },
+            );
+            Some(pass.flag(adaptive.edges))
+        }
+        _ => None,
+    };
     let grid = tiles(spec.region, control.tile_size);
     let total_tiles = grid.len();
 
@@ -402,7 +542,7 @@ pub fn render_part(
     };
     let stopped = |flag: Option<&AtomicBool>| flag.is_some_and(|f| f.load(Ordering::SeqCst));
 
-    let stats = todo
+    let tile_stats = todo
         .into_par_iter()
         .map(|index| {
             let mut stats = Stats::default();
@@ -412,111 +552,33 @@ pub fn render_part(
             let tile = grid[index];
             let npix = tile.area();
             let mut data = vec![0.0f32; nodes.len() * npix * nch];
-            let mut acc = Accumulator::new(nch);
-            let mut out = vec![Coherence::zero(2); opts.lambdas.len()];
-            let mut noise = PixelNoise::default();
+            let mut scratch = PixelScratch::new(nch, opts.lambdas.len());
             let mut p = 0;
             for y in tile.y0..tile.y1 {
                 for x in tile.x0..tile.x1 {
-                    acc.clear();
-                    noise.clear();
-                    // Samples this pixel took when adaptive sampling
-                    // stopped it early.
-                    let mut stopped_at = None;
-                    // The colour stratum of sample 0: random per pixel,
-                    // then runs of consecutive samples in rotation, so
-                    // each stratum's samples spread over the pixel.
-                    let first = if stride > 1 {
-                        let key = SampleKey {
-                            seed: opts.seed,
-                            pixel: y as u64 * w as u64 + x as u64,
-                            sample: 0,
-                        };
-                        (key.uniform(dim::WAVELENGTH) * stride as f64) as usize
-                    } else {
-                        0
-                    };
-                    for sample in spec.samples.start..spec.samples.end {
-                        let key = SampleKey {
-                            seed: opts.seed,
-                            pixel: y as u64 * w as u64 + x as u64,
-                            sample,
-                        };
-                        let stratum = if sample < traced {
-                            approx::stratum_of(stride, first, period, sample as usize)
-                        } else {
-                            stride
-                        };
-                        // A thinned-out colour wavelength stands for the
-                        // samples that do not trace it. A pixel that may
-                        // stop early does not know its sample count, so it
-                        // weighs by the stride.
-                        let colour_weight = approx::stratum_weight(
-                            stride,
-                            first,
-                            traced,
-                            total,
-                            measure.is_none(),
-                            stratum,
-                        );
-                        let (jx, jy) = match camera.sampling {
-                            camera::PixelSampling::Jittered => key.pixel_position(),
-                            camera::PixelSampling::Center => (0.5, 0.5),
-                        };
-                        let (fx, fy) = (x as f64 + jx, y as f64 + jy);
-                        let (eye, d) = camera.ray(fx, fy);
-                        let (bx, by) = camera.stokes_frame(d);
-                        let leaf = Node {
-                            start: sample as u64,
-                            len: 1,
-                        };
-                        // Every batch of wavelengths starts from the same
-                        // first surface.
-                        let hit = tracer.camera_hit(eye, d);
-                        acc.push_with(leaf, |v| {
-                            for (idx, batch) in &batches[stratum] {
-                                let out = &mut out[..idx.len()];
-                                tracer.trace_camera_from(
-                                    &hit,
-                                    [bx, by],
-                                    batch,
-                                    &key,
-                                    out,
-                                    &mut stats,
-                                );
-                                for (&i, j) in idx.iter().zip(out.iter()) {
-                                    let w = if i < colour { colour_weight } else { 1.0 };
-                                    let j = match &camera.analyzer {
-                                        Some(a) => j.transform(a),
-                                        None => *j,
-                                    };
-                                    let s = if linear {
-                                        j.stokes_linear()
-                                    } else {
-                                        j.stokes()
-                                    };
-                                    v[4 * i..4 * i + 4].copy_from_slice(&[
-                                        (w * s.s0) as f32,
-                                        (w * s.s1) as f32,
-                                        (w * s.s2) as f32,
-                                        (w * s.s3) as f32,
-                                    ]);
-                                }
-                            }
-                            if let Some(m) = &measure {
-                                noise.push(m, v);
-                            }
-                        });
-                        if let Some(m) = &measure {
-                            let taken = sample + 1;
-                            if opts.adaptive.checks_at(taken, total)
-                                && noise.error(m) <= opts.adaptive.noise
-                            {
-                                stopped_at = Some(taken);
-                                break;
+                    // Samples this pixel took when it stopped early.
+                    let stopped_at = match &edges {
+                        Some(e) => {
+                            let (flagged, acc, noise) = e.pixel(x, y);
+                            scratch.acc.clone_from(acc);
+                            scratch.noise.clone_from(noise);
+                            if flagged {
+                                let stop = |taken: u32, n: &PixelNoise| {
+                                    taken > base && noise_stops(taken, n)
+                                };
+                                run(x, y, base, total, &mut scratch, &mut stats, &stop)
+                            } else {
+                                Some(base)
                             }
                         }
-                    }
+                        None => {
+                            scratch.acc.clear();
+                            scratch.noise.clear();
+                            let (from, to) = (spec.samples.start, spec.samples.end);
+                            run(x, y, from, to, &mut scratch, &mut stats, &noise_stops)
+                        }
+                    };
+                    let acc = &mut scratch.acc;
                     let taken = stopped_at.unwrap_or(spec.samples.count());
                     stats.samples += taken as u64;
                     match stopped_at {
@@ -569,6 +631,7 @@ pub fn render_part(
             a += b;
             a
         });
+    stats += tile_stats;
     bar.finish_and_clear();
 
     let slots = done.into_inner().expect("not poisoned");

@@ -91,6 +91,9 @@ pub struct SettingsLayer {
     pub adaptive: Option<Set<f64>>,
     /// Samples before adaptive sampling's first check.
     pub min_samples: Option<Set<u32>>,
+    /// Edge-adaptive sampling's contrast threshold (0: off;
+    /// render::edges).
+    pub edges: Option<Set<f64>>,
 }
 
 /// Everything a layer can set: samples per pixel, image size and the
@@ -154,6 +157,7 @@ pub enum Field {
     Roulette,
     Adaptive,
     MinSamples,
+    Edges,
     Spectral,
 }
 
@@ -323,6 +327,16 @@ impl SettingsLayer {
             }
             s.render.adaptive.min_samples = m.value;
         }
+        if let Some(e) = &self.edges {
+            if !(e.value.is_finite() && e.value >= 0.0) {
+                return Err(err(
+                    &e.origin,
+                    Field::Edges,
+                    "must be a contrast in display units ≥ 0 (e.g. 0.02; 0: off)".into(),
+                ));
+            }
+            s.render.adaptive.edges = e.value;
+        }
         Ok(())
     }
 
@@ -381,8 +395,9 @@ pub fn resolve(base: Settings, layers: &[&SettingsLayer]) -> Result<Settings, Se
         });
     }
     // Colour on the first ⌈S/N⌉ samples needs S known up front; a pixel
-    // that adaptive sampling may stop early does not know it.
-    if s.render.approx.spectral.every > 1 && s.render.adaptive.is_on() {
+    // that adaptive or edge-adaptive sampling may stop early does not know
+    // it.
+    if s.render.approx.spectral.every > 1 && s.render.adaptive.decides() {
         let blame = layers.iter().rev().find_map(|l| {
             l.spectral
                 .as_ref()
@@ -394,22 +409,39 @@ pub fn resolve(base: Settings, layers: &[&SettingsLayer]) -> Result<Settings, Se
                         .filter(|a| a.value > 0.0)
                         .map(|a| (a.origin.clone(), Field::Adaptive))
                 })
+                .or_else(|| {
+                    l.edges
+                        .as_ref()
+                        .filter(|e| e.value > 0.0)
+                        .map(|e| (e.origin.clone(), Field::Edges))
+                })
         });
         let (origin, field) = blame.unwrap_or((Origin::Flag("--spectral".into()), Field::Spectral));
-        let (spectral, noise) = (s.render.approx.spectral, s.render.adaptive.noise);
+        let (spectral, a) = (s.render.approx.spectral, s.render.adaptive);
         let every = spectral.every;
-        let message = if field == Field::Spectral {
-            format!(
-                "{spectral} traces colour on the first 1/{every} of each pixel's samples, which \
-                 needs each pixel's sample count known up front, and adaptive sampling \
-                 (adaptive = {noise}) stops pixels early: use one or the other"
-            )
+        let stopper = if a.is_on() {
+            format!("adaptive sampling (adaptive = {})", a.noise)
         } else {
-            format!(
-                "{noise} stops pixels early, and spectral = {spectral} (colour on the first \
+            format!("edge-adaptive sampling (edges = {})", a.edges)
+        };
+        let message = match field {
+            Field::Spectral => format!(
+                "{spectral} traces colour on the first 1/{every} of each pixel's samples, which \
+                 needs each pixel's sample count known up front, and {stopper} stops pixels \
+                 early: use one or the other"
+            ),
+            Field::Edges => format!(
+                "{} stops pixels away from edges early, and spectral = {spectral} (colour on the \
+                 first 1/{every} of each pixel's samples) needs each pixel's sample count known \
+                 up front: use one or the other",
+                a.edges
+            ),
+            _ => format!(
+                "{} stops pixels early, and spectral = {spectral} (colour on the first \
                  1/{every} of each pixel's samples) needs each pixel's sample count known up \
-                 front: use one or the other"
-            )
+                 front: use one or the other",
+                a.noise
+            ),
         };
         return Err(SettingsError {
             origin,

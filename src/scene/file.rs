@@ -23,6 +23,7 @@
 //! roulette = 0                 # Russian roulette below this fraction of the brightest light; 0: off
 //! adaptive = 0                 # a pixel stops at this standard error (display units); 0: off
 //! min_samples = 32             # samples before adaptive sampling's first check
+//! edges = 0                    # only pixels differing from a neighbour by this take every sample; 0: off
 //! units = "mm"                 # one scene unit: nm, um (µm), mm, cm or m
 //!
 //! [media.my_glass]             # custom media (optional)
@@ -334,6 +335,8 @@ pub struct RenderDef {
     pub adaptive: Option<Spanned<f64>>,
     /// Samples before adaptive sampling's first check.
     pub min_samples: Option<Spanned<u32>>,
+    /// Edge-adaptive sampling's contrast threshold (render::edges; 0: off).
+    pub edges: Option<Spanned<f64>>,
     /// The length of one scene unit: `nm`, `um` (or `µm`), `mm`, `cm`, `m`.
     pub units: Option<Spanned<String>>,
 }

@@ -245,6 +245,10 @@ impl Scene {
                 .min_samples
                 .as_ref()
                 .map(|m| Set::new(*m.get_ref(), origin(m.span(), "render.min_samples"))),
+            edges: r
+                .edges
+                .as_ref()
+                .map(|e| Set::new(*e.get_ref(), origin(e.span(), "render.edges"))),
             ..SettingsLayer::default()
         };
         if let Some(b) = &r.branching {

@@ -478,3 +478,84 @@ fn adaptive_flags_are_checked_refuse_sample_blocks_and_join_the_identity() {
     assert_eq!(code, 0, "{o}{e}");
     assert!(!settings(&d.join("c.png")).contains("adaptive"));
 }
+
+#[test]
+fn edges_flags_are_checked_refuse_sample_blocks_and_colour_on_some_samples() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("scene.toml"), SCENE).unwrap();
+    for bad in ["-1", "nan", "inf"] {
+        refused(
+            d,
+            &["render", "scene.toml", "--edges", bad, "-o", "a.png"],
+            &["--edges", "contrast in display units"],
+        );
+    }
+    let bad = SCENE.replace("wavelengths = 8", "wavelengths = 8\nedges = -0.5");
+    std::fs::write(d.join("bad.toml"), bad).unwrap();
+    refused(
+        d,
+        &["render", "bad.toml", "-o", "a.png"],
+        &["bad.toml:", "render.edges", "contrast"],
+    );
+    // A pixel decides from its neighbours' first samples: a block cannot.
+    refused(
+        d,
+        &[
+            "render",
+            "scene.toml",
+            "--samples",
+            "0..4/8",
+            "--edges",
+            "0.02",
+            "-o",
+            "a.exr",
+            "--mode",
+            "stokes",
+        ],
+        &["--samples 0..4", "edge-adaptive", "by region or tiles"],
+    );
+    // Colour on the first half of the samples needs every pixel's count.
+    refused(
+        d,
+        &[
+            "render",
+            "scene.toml",
+            "--samples",
+            "8",
+            "--edges",
+            "0.02",
+            "--spectral",
+            "hero:2/2",
+            "-m",
+            "color,dop",
+            "-o",
+            "a.png",
+        ],
+        &[
+            "--spectral",
+            "hero:2/2",
+            "edge-adaptive sampling (edges = 0.02)",
+        ],
+    );
+    assert!(!d.join("a.png").exists() && !d.join("a.exr").exists());
+    let (code, o, e) = spar(
+        d,
+        &[
+            "render",
+            "scene.toml",
+            "--samples",
+            "8",
+            "--edges",
+            "0.02",
+            "--min-samples",
+            "4",
+            "-o",
+            "b.png",
+        ],
+    );
+    assert_eq!(code, 0, "{o}{e}");
+    assert!(e.contains("(edges 0.02: "), "{e}");
+    let s = settings(&d.join("b.png"));
+    assert!(s.ends_with(" edges=0.02 min_samples=4"), "{s}");
+}

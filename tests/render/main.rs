@@ -15,6 +15,7 @@ mod render_biaxial;
 mod render_bundle;
 mod render_coherence;
 mod render_convex;
+mod render_edges;
 mod render_furnace;
 mod render_hard_cases;
 mod render_image_version;

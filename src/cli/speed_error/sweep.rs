@@ -25,7 +25,7 @@ struct ConfigFlags {
 }
 
 /// A configuration's key and the `spar render` flag it stands for.
-const KEYS: [(&str, &str); 15] = [
+const KEYS: [(&str, &str); 16] = [
     ("depth", "--max-depth"),
     ("prune", "--prune"),
     ("spp", "--samples"),
@@ -41,6 +41,7 @@ const KEYS: [(&str, &str); 15] = [
     ("roulette", "--roulette"),
     ("adaptive", "--adaptive"),
     ("min_samples", "--min-samples"),
+    ("edges", "--edges"),
 ];
 
 impl Config {
