@@ -71,7 +71,7 @@ What it measures, all at one resolution (default 128×128), one camera,
    falls as CPU^-1/2 at high spp, spar's nearly as CPU^-1 (its sub-pixel
    positions are low-discrepancy, src/render/sampling.rs).
 
-Options: --spar-spp, --mitsuba-spp, --mitsuba-extra-spp, --scalar-spp (empty: skip), --runs,
+Options: --spar-spp, --spar-configs, --mitsuba-spp, --mitsuba-extra-spp, --scalar-spp (empty: skip), --runs,
 --ref-spp (per half), --threshold, --reuse-reference (reuse the
 reference halves in --out: same --res and --ref-spp!), --spar,
 --threads, --csv, --from-csv (no rendering: the ratios of a CSV it
@@ -115,6 +115,11 @@ SPAR_CONFIGS = {
     "quality=default": ["--quality", "default"],
     "roulette=0.1": ["--roulette", "0.1"],
     "quality=draft": ["--quality", "draft"],
+    # Edge-adaptive sampling (docs/speed-vs-error.md): 16 first samples,
+    # all of them only at pixels that differ from a neighbour by 0.02.
+    # Points at 16 samples or fewer are the plain configuration's.
+    "draft+edges=0.02": ["--quality", "draft", "--edges", "0.02", "--min-samples", "16"],
+    "exact+edges=0.02": ["--edges", "0.02", "--min-samples", "16"],
 }
 REF_SEEDS = (1000, 1001)
 
@@ -398,6 +403,8 @@ def main():
                     help="more llvm spp, first configuration only, one seed (default 16384,65536; empty: none)")
     ap.add_argument("--scalar-spp", default="16,64,256",
                     help="scalar_spectral_polarized spp list, context only (default 16,64,256; empty: skip)")
+    ap.add_argument("--spar-configs", default="",
+                    help="comma-separated labels of SPAR_CONFIGS to render (default: all)")
     ap.add_argument("--runs", type=int, default=2, help="seeds per point (default 2)")
     ap.add_argument("--threshold", type=float, default=0.02,
                     help="mask: reference S0 above this, in units of a light seen directly (default 0.02)")
@@ -490,8 +497,15 @@ def main():
 
     # spar.
     print("spar:")
-    for label, flags in SPAR_CONFIGS.items():
+    configs = args.spar_configs.split(",") if args.spar_configs else list(SPAR_CONFIGS)
+    for label in configs:
+        if label not in SPAR_CONFIGS:
+            ap.error(f"--spar-configs: unknown {label!r}; known: {', '.join(SPAR_CONFIGS)}")
+    for label in configs:
+        flags = SPAR_CONFIGS[label]
         for s in spar_spp:
+            if "--edges" in flags and s <= 16:
+                continue
             cpus, errs = [], []
             for seed in range(args.runs):
                 path, cpu = run_spar(args, f"spar_{label}_{s}_{seed}".replace("=", "-"), s, seed, flags)

@@ -48,12 +48,15 @@ fn apron(region: Rect, width: u32, height: u32) -> Rect {
 /// Renders the first samples of every pixel of `region` and its border
 /// (`pixel` renders one into the scratch and returns what it shows), rows
 /// spread over rayon's threads; their statistics are added to `stats`.
+/// Once `stopped()` holds, the remaining rows are skipped (their values
+/// are meaningless, and the caller renders no tile after a stop).
 pub(super) fn first_samples(
     region: Rect,
     width: u32,
     height: u32,
     channels: usize,
     stats: &mut Stats,
+    stopped: &(dyn Fn() -> bool + Sync),
     pixel: impl Fn(u32, u32, &mut PixelScratch, &mut Stats) -> [f64; SHOWN] + Sync,
 ) -> FirstSamples {
     let apron = apron(region, width, height);
@@ -63,10 +66,15 @@ pub(super) fn first_samples(
         .map(|y| {
             let mut scratch = PixelScratch::new(channels, channels / 4);
             let mut row: Row = (Vec::new(), Vec::new(), Stats::default());
+            let skip = stopped();
             for x in apron.x0..apron.x1 {
                 scratch.acc.clear();
                 scratch.noise.clear();
-                row.0.push(pixel(x, y, &mut scratch, &mut row.2));
+                row.0.push(if skip {
+                    [0.0; SHOWN]
+                } else {
+                    pixel(x, y, &mut scratch, &mut row.2)
+                });
                 if region.contains(x, y) {
                     row.1.push((scratch.acc.clone(), scratch.noise.clone()));
                 }

@@ -466,6 +466,7 @@ pub fn render_part(
                 .as_ref()
                 .is_some_and(|m| noise.error(m) <= adaptive.noise)
     };
+    let stopped = |flag: Option<&AtomicBool>| flag.is_some_and(|f| f.load(Ordering::SeqCst));
     // Edge-adaptive sampling: every pixel of the region and of a
     // one-pixel border around it (whose values a region's edge pixels are
     // compared with) takes its first samples; the region's pixels keep
@@ -480,6 +481,7 @@ pub fn render_part(
                 camera.height,
                 nch,
                 &mut stats,
+                &|| stopped(control.stop),
                 |x, y, sc, st| {
                     run(x, y, 0, base, sc, st, &|_, _| false);
                     sc.noise.shown(m)
@@ -540,7 +542,6 @@ pub fn render_part(
         });
         todo
     };
-    let stopped = |flag: Option<&AtomicBool>| flag.is_some_and(|f| f.load(Ordering::SeqCst));
 
     let tile_stats = todo
         .into_par_iter()

@@ -191,3 +191,23 @@ fn tiles_and_regions_do_not_change_an_edge_adaptive_render() {
         }
     }
 }
+
+#[test]
+fn a_stop_during_the_first_samples_renders_no_tile() {
+    let (scene, _d) = load(16, 0.02, 4);
+    let accel = prepare::accel(&scene, AccelKind::default(), 2, None).unwrap();
+    let opts = prepare::options_at(&scene, LAMBDAS.to_vec());
+    let stop = std::sync::atomic::AtomicBool::new(true);
+    let control = Control {
+        stop: Some(&stop),
+        ..Control::default()
+    };
+    let spec = PartSpec::whole(20, 20, 16);
+    match render_part(&scene, accel.as_ref(), &opts, &spec, control) {
+        Outcome::Stopped(tiles, stats) => {
+            assert!(tiles.is_empty());
+            assert_eq!(stats.rays, 0, "first samples rendered after the stop");
+        }
+        Outcome::Done(..) => panic!("a stopped render finished"),
+    }
+}
