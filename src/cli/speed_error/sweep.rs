@@ -227,6 +227,9 @@ mod tests {
         assert_eq!(c.prune, Some(1e-2));
         assert_eq!(c.spectral, Some(Spectral::hero(3)));
         assert_eq!(Config::parse("").unwrap().label, "scene");
+        let e = Config::parse("spp=64 edges=0.02 min_samples=8").unwrap();
+        assert_eq!(e.overrides.edges, Some(0.02));
+        assert_eq!(e.overrides.min_samples, Some(8));
         for bad in [
             "depth",
             "depth=-1",
@@ -234,6 +237,7 @@ mod tests {
             "spp=0",
             "colour=1",
             "spectral=hero:0",
+            "edges=x",
         ] {
             let e = Config::parse(bad).unwrap_err();
             assert!(e.contains(bad.split('=').next().unwrap()), "{e}");
