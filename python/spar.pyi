@@ -72,6 +72,7 @@ class Settings(TypedDict):
     roulette: float
     adaptive: float
     min_samples: int
+    edges: float
 
 class Scene:
     """A scene: objects, lights and camera as its file gave them, and
@@ -118,6 +119,11 @@ class Scene:
     min_samples: int
     """Samples every pixel takes before adaptive sampling's first check
     (at least 2)."""
+    edges: float
+    """Edge-adaptive sampling: every pixel takes min_samples samples, and
+    only one that then differs from a neighbour by more than this (display
+    units: sRGB values, normalized Stokes vectors) takes all samples
+    (0: off)."""
     quality: Literal["draft", "fast", "default", "reference"]
     """Write-only (reading raises AttributeError): applies a preset of
     depth, pruning and approximations (docs/speed-vs-error.md); samples
@@ -149,6 +155,7 @@ class Scene:
         roulette: float | None = ...,
         adaptive: float | None = ...,
         min_samples: int | None = ...,
+        edges: float | None = ...,
     ) -> None:
         """Changes several settings at once, checked together as the
         command line checks its flags (quality is a preset the others
@@ -180,6 +187,7 @@ class Scene:
         roulette: float | None = ...,
         adaptive: float | None = ...,
         min_samples: int | None = ...,
+        edges: float | None = ...,
         light_rig: str | None = ...,
         tilt: float | None = ...,
     ) -> Render:

@@ -99,7 +99,7 @@ impl Scene {
     /// Changes several settings at once (samples, resolution, wavelengths,
     /// max_depth, prune, seed, quality, branching, polarization,
     /// coherence, spectral, dispersion, bundle, roulette, adaptive,
-    /// min_samples),
+    /// min_samples, edges),
     /// checked together as the command line checks its flags: `quality` is a preset the others override.
     /// On an error nothing changes.
     #[pyo3(signature = (**settings))]
@@ -288,6 +288,18 @@ impl Scene {
     #[setter]
     fn set_min_samples(&mut self, value: &Bound<'_, PyAny>) -> PyResult<()> {
         self.set_one("min_samples", value)
+    }
+
+    /// Edge-adaptive sampling: a pixel takes every sample only if its first
+    /// `min_samples` differ from a neighbour's by more than this, in
+    /// display units (0: off).
+    #[getter]
+    fn edges(&self) -> f64 {
+        self.inner.settings.adaptive.edges
+    }
+    #[setter]
+    fn set_edges(&mut self, value: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.set_one("edges", value)
     }
 
     /// Applies a quality preset (draft, fast, default, reference): depth,

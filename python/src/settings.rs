@@ -20,7 +20,7 @@ use std::str::FromStr;
 
 /// The settings a scene takes from Python, in the order the docs list
 /// them.
-pub const NAMES: [&str; 16] = [
+pub const NAMES: [&str; 17] = [
     "samples",
     "resolution",
     "wavelengths",
@@ -37,6 +37,7 @@ pub const NAMES: [&str; 16] = [
     "roulette",
     "adaptive",
     "min_samples",
+    "edges",
 ];
 
 /// What a render takes besides the settings: the lights and the stone's
@@ -185,6 +186,7 @@ fn set(o: &mut SceneOverrides, name: &str, value: &Bound<'_, PyAny>) -> PyResult
         "roulette" => o.roulette = Some(real(name, value)?),
         "adaptive" => o.adaptive = Some(real(name, value)?),
         "min_samples" => o.min_samples = Some(whole(name, value)?),
+        "edges" => o.edges = Some(real(name, value)?),
         "light_rig" => o.light_rig = Some(parsed::<LightRig>(name, value)?),
         "tilt" => o.tilt = Some(real(name, value)?),
         other => {
@@ -248,5 +250,6 @@ pub fn as_dict<'py>(py: Python<'py>, scene: &Scene) -> PyResult<Bound<'py, PyDic
     d.set_item("roulette", s.approx.strategy.roulette)?;
     d.set_item("adaptive", s.adaptive.noise)?;
     d.set_item("min_samples", s.adaptive.min_samples)?;
+    d.set_item("edges", s.adaptive.edges)?;
     Ok(d)
 }

@@ -85,6 +85,10 @@ def test_a_bad_setting_is_refused_and_changes_nothing(repo):
     scene.set(adaptive=0.02, min_samples=4)
     assert (scene.adaptive, scene.min_samples) == (0.02, 4)
     assert scene.settings["adaptive"] == 0.02
+    with pytest.raises(spar.InputError, match="edges must be a contrast"):
+        scene.edges = -1.0
+    scene.set(adaptive=0, edges=0.02, min_samples=8)
+    assert (scene.edges, scene.settings["edges"]) == (0.02, 0.02)
     with pytest.raises(spar.InputError, match="roulette must be a fraction"):
         scene.roulette = 1.0
     assert scene.roulette == 0.0
