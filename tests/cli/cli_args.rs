@@ -411,32 +411,50 @@ fn roulette_is_checked_and_joins_the_identity_only_when_on() {
     assert!(s.ends_with(" coherence=physical"), "{s}");
 }
 
-#[test]
-fn adaptive_flags_are_checked_refuse_sample_blocks_and_join_the_identity() {
-    let dir = tempfile::tempdir().unwrap();
-    let d = dir.path();
-    std::fs::write(d.join("scene.toml"), SCENE).unwrap();
+/// `flag` refuses -1, NaN and infinity, and the scene key `render.KEY`
+/// a negative value, named by its file and line; each message says `what`.
+fn refuses_bad_values(d: &Path, flag: &str, key: &str, what: &str) {
     for bad in ["-1", "nan", "inf"] {
         refused(
             d,
-            &["render", "scene.toml", "--adaptive", bad, "-o", "a.png"],
-            &["--adaptive", "display units"],
+            &["render", "scene.toml", flag, bad, "-o", "a.png"],
+            &[flag, what],
         );
     }
-    refused(
-        d,
-        &["render", "scene.toml", "--min-samples", "1", "-o", "a.png"],
-        &["--min-samples", "at least 2"],
-    );
-    // A scene file's value is named by its line.
-    let bad = SCENE.replace("wavelengths = 8", "wavelengths = 8\nadaptive = -0.5");
+    let bad = SCENE.replace("wavelengths = 8", &format!("wavelengths = 8\n{key} = -0.5"));
     std::fs::write(d.join("bad.toml"), bad).unwrap();
+    let field = format!("render.{key}");
     refused(
         d,
         &["render", "bad.toml", "-o", "a.png"],
-        &["bad.toml:", "render.adaptive", "display units"],
+        &["bad.toml:", &field, what],
     );
-    // A pixel decides from all its samples: a block cannot be rendered.
+}
+
+/// `--KEY 0.02 --min-samples 4` renders, the summary line reports the
+/// samples per pixel taken, and the image's identity ends with the two.
+fn renders_and_joins_the_identity(d: &Path, key: &str) {
+    let flag = format!("--{key}");
+    let args = [
+        "render",
+        "scene.toml",
+        "--samples",
+        "8",
+        &flag,
+        "0.02",
+        "--min-samples",
+        "4",
+    ];
+    let (code, o, e) = spar(d, &[&args[..], &["-o", "b.png"]].concat());
+    assert_eq!(code, 0, "{o}{e}");
+    assert!(e.contains(&format!("({key} 0.02: ")), "{e}");
+    let s = settings(&d.join("b.png"));
+    assert!(s.ends_with(&format!(" {key}=0.02 min_samples=4")), "{s}");
+}
+
+/// A sample block cannot be rendered with `flag` on (a pixel decides from
+/// all its samples); the message names `what`, and no image is written.
+fn refuses_a_sample_block(d: &Path, flag: &str, what: &str) {
     refused(
         d,
         &[
@@ -444,35 +462,34 @@ fn adaptive_flags_are_checked_refuse_sample_blocks_and_join_the_identity() {
             "scene.toml",
             "--samples",
             "0..4/8",
-            "--adaptive",
+            flag,
             "0.01",
             "-o",
             "a.exr",
             "--mode",
             "stokes",
         ],
-        &["--samples 0..4", "adaptive", "by region or tiles"],
+        &["--samples 0..4", what, "by region or tiles"],
     );
-    assert!(!d.join("a.png").exists() && !d.join("a.exr").exists());
-    let (code, o, e) = spar(
+    assert!(!d.join("a.exr").exists());
+}
+
+#[test]
+fn adaptive_flags_are_checked_refuse_sample_blocks_and_join_the_identity() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("scene.toml"), SCENE).unwrap();
+    let (flag, key) = ("--adaptive", "adaptive");
+    refuses_bad_values(d, flag, key, "display units");
+    refused(
         d,
-        &[
-            "render",
-            "scene.toml",
-            "--samples",
-            "8",
-            "--adaptive",
-            "0.02",
-            "--min-samples",
-            "4",
-            "-o",
-            "b.png",
-        ],
+        &["render", "scene.toml", "--min-samples", "1", "-o", "a.png"],
+        &["--min-samples", "at least 2"],
     );
-    assert_eq!(code, 0, "{o}{e}");
-    assert!(e.contains("(adaptive 0.02: "), "{e}");
-    let s = settings(&d.join("b.png"));
-    assert!(s.ends_with(" adaptive=0.02 min_samples=4"), "{s}");
+    // A pixel decides from all its samples: a block cannot be rendered.
+    refuses_a_sample_block(d, flag, "adaptive");
+    assert!(!d.join("a.png").exists() && !d.join("a.exr").exists());
+    renders_and_joins_the_identity(d, "adaptive");
     // Off leaves the identity as before adaptive sampling existed.
     let (code, o, e) = spar(d, &["render", "scene.toml", "-q", "-o", "c.png"]);
     assert_eq!(code, 0, "{o}{e}");
@@ -484,37 +501,9 @@ fn edges_flags_are_checked_refuse_sample_blocks_and_colour_on_some_samples() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     std::fs::write(d.join("scene.toml"), SCENE).unwrap();
-    for bad in ["-1", "nan", "inf"] {
-        refused(
-            d,
-            &["render", "scene.toml", "--edges", bad, "-o", "a.png"],
-            &["--edges", "contrast in display units"],
-        );
-    }
-    let bad = SCENE.replace("wavelengths = 8", "wavelengths = 8\nedges = -0.5");
-    std::fs::write(d.join("bad.toml"), bad).unwrap();
-    refused(
-        d,
-        &["render", "bad.toml", "-o", "a.png"],
-        &["bad.toml:", "render.edges", "contrast"],
-    );
+    refuses_bad_values(d, "--edges", "edges", "contrast in display units");
     // A pixel decides from its neighbours' first samples: a block cannot.
-    refused(
-        d,
-        &[
-            "render",
-            "scene.toml",
-            "--samples",
-            "0..4/8",
-            "--edges",
-            "0.02",
-            "-o",
-            "a.exr",
-            "--mode",
-            "stokes",
-        ],
-        &["--samples 0..4", "edge-adaptive", "by region or tiles"],
-    );
+    refuses_a_sample_block(d, "--edges", "edge-adaptive");
     // Colour on the first half of the samples needs every pixel's count.
     refused(
         d,
@@ -539,23 +528,5 @@ fn edges_flags_are_checked_refuse_sample_blocks_and_colour_on_some_samples() {
         ],
     );
     assert!(!d.join("a.png").exists() && !d.join("a.exr").exists());
-    let (code, o, e) = spar(
-        d,
-        &[
-            "render",
-            "scene.toml",
-            "--samples",
-            "8",
-            "--edges",
-            "0.02",
-            "--min-samples",
-            "4",
-            "-o",
-            "b.png",
-        ],
-    );
-    assert_eq!(code, 0, "{o}{e}");
-    assert!(e.contains("(edges 0.02: "), "{e}");
-    let s = settings(&d.join("b.png"));
-    assert!(s.ends_with(" edges=0.02 min_samples=4"), "{s}");
+    renders_and_joins_the_identity(d, "edges");
 }

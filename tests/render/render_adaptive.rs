@@ -12,45 +12,11 @@ use spar::render::film::Film;
 use spar::render::{prepare, render_part, Control, Outcome, PartSpec};
 use spar::scene::Scene;
 
-/// A glass box over a checker-textured light, seen at an angle through
-/// jittered pixel positions: edges, texture and dispersion make most
-/// pixels vary from sample to sample, the sky around the light does not.
-fn scene_text(samples: u32, adaptive: f64, min: u32) -> String {
-    format!(
-        r#"
-[camera]
-eye = [0.0, -3.0, 4.0]
-look_at = [0.0, 0.0, 0.0]
-up = [0.0, 0.0, 1.0]
-fov = 40.0
-resolution = [20, 20]
-samples = {samples}
-[render]
-wavelengths = [450.0, 550.0, 650.0]
-max_depth = 8
-adaptive = {adaptive}
-min_samples = {min}
-[[object]]
-mesh = "box.obj"
-medium = "n-bk7"
-[[light]]
-corners = [[-2.0, -2.0, -1.0], [2.0, -2.0, -1.0], [2.0, 2.0, -1.0], [-2.0, 2.0, -1.0]]
-radiance = 1.0
-texture = "builtin:checker"
-"#
-    )
-}
-
 fn load(samples: u32, adaptive: f64, min: u32) -> (Scene, tempfile::TempDir) {
-    let mesh = box_obj([-0.8, -0.8, -0.3], [0.8, 0.8, 0.3]);
-    common::scene(&scene_text(samples, adaptive, min), &[("box.obj", mesh)])
-}
-
-fn bits(film: &Film, x: u32, y: u32) -> Vec<u64> {
-    (0..film.lambdas.len())
-        .flat_map(|i| film.stokes(x, y, i))
-        .map(f64::to_bits)
-        .collect()
+    checker_box(
+        samples,
+        &format!("adaptive = {adaptive}\nmin_samples = {min}"),
+    )
 }
 
 const LAMBDAS: [f64; 3] = [450.0, 550.0, 650.0];

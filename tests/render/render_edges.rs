@@ -14,48 +14,11 @@ use spar::render::region::Rect;
 use spar::render::{prepare, render_part, Control, Outcome, PartSpec, RawPart};
 use spar::scene::Scene;
 
-/// A glass box over a checker-textured light, seen at an angle through
-/// jittered pixel positions: facet and checker edges, and a plain sky
-/// around the light.
-fn scene_text(samples: u32, edges: f64, min: u32) -> String {
-    format!(
-        r#"
-[camera]
-eye = [0.0, -3.0, 4.0]
-look_at = [0.0, 0.0, 0.0]
-up = [0.0, 0.0, 1.0]
-fov = 40.0
-resolution = [20, 20]
-samples = {samples}
-[render]
-wavelengths = [450.0, 550.0, 650.0]
-max_depth = 8
-edges = {edges}
-min_samples = {min}
-[[object]]
-mesh = "box.obj"
-medium = "n-bk7"
-[[light]]
-corners = [[-2.0, -2.0, -1.0], [2.0, -2.0, -1.0], [2.0, 2.0, -1.0], [-2.0, 2.0, -1.0]]
-radiance = 1.0
-texture = "builtin:checker"
-"#
-    )
-}
-
 fn load(samples: u32, edges: f64, min: u32) -> (Scene, tempfile::TempDir) {
-    let mesh = box_obj([-0.8, -0.8, -0.3], [0.8, 0.8, 0.3]);
-    common::scene(&scene_text(samples, edges, min), &[("box.obj", mesh)])
+    checker_box(samples, &format!("edges = {edges}\nmin_samples = {min}"))
 }
 
 const LAMBDAS: [f64; 3] = [450.0, 550.0, 650.0];
-
-fn bits(film: &Film, x: u32, y: u32) -> Vec<u64> {
-    (0..film.lambdas.len())
-        .flat_map(|i| film.stokes(x, y, i))
-        .map(f64::to_bits)
-        .collect()
-}
 
 /// Whether two pixels of a film hold different values.
 fn differ(film: &Film, a: (u32, u32), b: (u32, u32)) -> bool {

@@ -237,3 +237,44 @@ pub fn sampled_mean(
     let se = std::array::from_fn(|c| ((sq[c] / nf - mean[c] * mean[c]).max(0.0) / nf).sqrt());
     (mean, se, stats)
 }
+
+/// A glass box over a checker-textured light, seen at an angle through
+/// jittered pixel positions, 20×20 pixels at 450, 550 and 650 nm: edges,
+/// texture and dispersion make most pixels vary from sample to sample, the
+/// sky around the light does not. `render_keys` are more `[render]` lines
+/// (the sampling settings under test).
+pub fn checker_box(samples: u32, render_keys: &str) -> (Scene, tempfile::TempDir) {
+    let text = format!(
+        r#"
+[camera]
+eye = [0.0, -3.0, 4.0]
+look_at = [0.0, 0.0, 0.0]
+up = [0.0, 0.0, 1.0]
+fov = 40.0
+resolution = [20, 20]
+samples = {samples}
+[render]
+wavelengths = [450.0, 550.0, 650.0]
+max_depth = 8
+{render_keys}
+[[object]]
+mesh = "box.obj"
+medium = "n-bk7"
+[[light]]
+corners = [[-2.0, -2.0, -1.0], [2.0, -2.0, -1.0], [2.0, 2.0, -1.0], [-2.0, 2.0, -1.0]]
+radiance = 1.0
+texture = "builtin:checker"
+"#
+    );
+    let mesh = box_obj([-0.8, -0.8, -0.3], [0.8, 0.8, 0.3]);
+    scene(&text, &[("box.obj", mesh)])
+}
+
+/// A pixel's Stokes values at every wavelength, as bits (for exact
+/// comparisons).
+pub fn bits(film: &Film, x: u32, y: u32) -> Vec<u64> {
+    (0..film.lambdas.len())
+        .flat_map(|i| film.stokes(x, y, i))
+        .map(f64::to_bits)
+        .collect()
+}
