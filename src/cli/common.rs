@@ -221,15 +221,30 @@ pub fn film_bytes(pixels: u64, lambdas: usize, nodes: usize) -> f64 {
     pixels as f64 * lambdas as f64 * 4.0 * nodes.max(1) as f64 * 4.0 * 4.0
 }
 
-/// Refuses a render whose film cannot fit in the available memory, naming
-/// `what` asks for it (the flags or scene fields of size and wavelengths).
+/// Bytes edge-adaptive sampling keeps per render besides the film: each
+/// pixel's sums after its first samples (four `f32` per wavelength), its
+/// noise sums (`PixelNoise`, 168 bytes, kept with adaptive sampling on;
+/// counted always) and what it and its border show (80 bytes).
+pub fn edges_bytes(pixels: u64, lambdas: usize) -> f64 {
+    pixels as f64 * (lambdas as f64 * 16.0 + 256.0)
+}
+
+/// Refuses a render whose film (and, with edge-adaptive sampling on, its
+/// first samples' sums) cannot fit in the available memory, naming `what`
+/// asks for it (the flags or scene fields of size and wavelengths).
 pub fn check_film_memory(
     pixels: u64,
     lambdas: usize,
     nodes: usize,
+    edges: bool,
     what: &str,
 ) -> Result<(), CliError> {
-    check_memory(film_bytes(pixels, lambdas, nodes), what)
+    let extra = if edges {
+        edges_bytes(pixels, lambdas)
+    } else {
+        0.0
+    };
+    check_memory(film_bytes(pixels, lambdas, nodes) + extra, what)
 }
 
 /// Refuses work that needs more than the available memory, naming `what`

@@ -111,6 +111,7 @@ pub fn render_film(
         w as u64 * h as u64,
         n,
         1,
+        scene.settings.adaptive.edges_on(),
         &format!("a {w}x{h} render of {n} wavelength(s)"),
     )?;
     let pool = thread_pool(threads)?;
@@ -304,6 +305,7 @@ fn checked_job(args: &RenderArgs) -> Result<Job, CliError> {
         spec.region.area() as u64,
         prepare::lambdas(&scene, &traced, mono_nm).len(),
         spec.samples.nodes().len(),
+        scene.settings.adaptive.edges_on(),
         &film_what(
             &scene,
             args.scene.as_deref(),

@@ -233,6 +233,16 @@ impl Accumulator {
         }
     }
 
+    /// Replaces the stack with `nodes` and their `values` (node after
+    /// node), as [`Self::nodes`] and [`Self::values`] gave them.
+    pub fn restore(&mut self, nodes: &[Node], values: &[f32]) {
+        debug_assert_eq!(values.len(), nodes.len() * self.width);
+        self.nodes.clear();
+        self.nodes.extend_from_slice(nodes);
+        self.values.clear();
+        self.values.extend_from_slice(values);
+    }
+
     /// The nodes on the stack, left to right.
     pub fn nodes(&self) -> &[Node] {
         &self.nodes

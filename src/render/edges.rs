@@ -18,7 +18,7 @@
 //! decide and are refused, as with adaptive sampling.
 
 use super::adaptive::{contrast, PixelNoise, SHOWN};
-use super::blocks::Accumulator;
+use super::blocks::{Accumulator, Node};
 use super::integrator::Stats;
 use super::region::Rect;
 use super::PixelScratch;
@@ -31,8 +31,44 @@ pub(super) struct FirstSamples {
     region: Rect,
     /// What each pixel of `apron` shows after its first samples, row-major.
     shown: Vec<[f64; SHOWN]>,
-    /// Each region pixel's sums so far, row-major.
-    saved: Vec<(Accumulator, PixelNoise)>,
+    saved: Saved,
+}
+
+/// The region's pixels' sums after their first samples, row-major: the
+/// same nodes for every pixel (they depend only on the count), so one
+/// flat array of values, and each pixel's noise sums only where a later
+/// check needs them (adaptive sampling on). About four `f32` per
+/// wavelength and pixel, as the film itself.
+#[derive(Default)]
+struct Saved {
+    nodes: Vec<Node>,
+    /// Values per pixel: `nodes.len()` × channels.
+    width: usize,
+    values: Vec<f32>,
+    noise: Vec<PixelNoise>,
+}
+
+impl Saved {
+    fn push(&mut self, acc: &Accumulator, noise: &PixelNoise, keep_noise: bool) {
+        if self.width == 0 {
+            self.nodes = acc.nodes().to_vec();
+            self.width = acc.values().len();
+        }
+        debug_assert_eq!(acc.nodes(), &self.nodes[..]);
+        self.values.extend_from_slice(acc.values());
+        if keep_noise {
+            self.noise.push(noise.clone());
+        }
+    }
+
+    fn extend(&mut self, other: Saved) {
+        if self.width == 0 {
+            self.nodes = other.nodes;
+            self.width = other.width;
+        }
+        self.values.extend(other.values);
+        self.noise.extend(other.noise);
+    }
 }
 
 /// The region grown by one pixel on every side, clipped to the image.
@@ -49,23 +85,27 @@ fn apron(region: Rect, width: u32, height: u32) -> Rect {
 /// (`pixel` renders one into the scratch and returns what it shows), rows
 /// spread over rayon's threads; their statistics are added to `stats`.
 /// Once `stopped()` holds, the remaining rows are skipped (their values
-/// are meaningless, and the caller renders no tile after a stop).
+/// are meaningless, and the caller renders no tile after a stop). A
+/// pixel's noise sums are kept when `keep_noise` (a later check reads
+/// them).
+#[allow(clippy::too_many_arguments)]
 pub(super) fn first_samples(
     region: Rect,
     width: u32,
     height: u32,
     channels: usize,
+    keep_noise: bool,
     stats: &mut Stats,
     stopped: &(dyn Fn() -> bool + Sync),
     pixel: impl Fn(u32, u32, &mut PixelScratch, &mut Stats) -> [f64; SHOWN] + Sync,
 ) -> FirstSamples {
     let apron = apron(region, width, height);
-    type Row = (Vec<[f64; SHOWN]>, Vec<(Accumulator, PixelNoise)>, Stats);
+    type Row = (Vec<[f64; SHOWN]>, Saved, Stats);
     let rows: Vec<Row> = (apron.y0..apron.y1)
         .into_par_iter()
         .map(|y| {
             let mut scratch = PixelScratch::new(channels, channels / 4);
-            let mut row: Row = (Vec::new(), Vec::new(), Stats::default());
+            let mut row: Row = (Vec::new(), Saved::default(), Stats::default());
             let skip = stopped();
             for x in apron.x0..apron.x1 {
                 scratch.acc.clear();
@@ -75,8 +115,8 @@ pub(super) fn first_samples(
                 } else {
                     pixel(x, y, &mut scratch, &mut row.2)
                 });
-                if region.contains(x, y) {
-                    row.1.push((scratch.acc.clone(), scratch.noise.clone()));
+                if region.contains(x, y) && !skip {
+                    row.1.push(&scratch.acc, &scratch.noise, keep_noise);
                 }
             }
             row
@@ -86,7 +126,7 @@ pub(super) fn first_samples(
         apron,
         region,
         shown: Vec::with_capacity(apron.area()),
-        saved: Vec::with_capacity(region.area()),
+        saved: Saved::default(),
     };
     for (shown, saved, s) in rows {
         pass.shown.extend(shown);
@@ -128,15 +168,28 @@ impl FirstSamples {
 pub(super) struct Edges {
     region: Rect,
     flags: Vec<bool>,
-    saved: Vec<(Accumulator, PixelNoise)>,
+    saved: Saved,
 }
 
 impl Edges {
-    /// (whether the pixel is at an edge, its sums after its first samples).
-    pub(super) fn pixel(&self, x: u32, y: u32) -> (bool, &Accumulator, &PixelNoise) {
+    /// Whether pixel (x, y) is at an edge; puts its sums after its first
+    /// samples into `acc` and `noise` (noise sums only where kept, else
+    /// none).
+    pub(super) fn pixel(
+        &self,
+        x: u32,
+        y: u32,
+        acc: &mut Accumulator,
+        noise: &mut PixelNoise,
+    ) -> bool {
         let r = self.region;
         let i = (y - r.y0) as usize * r.width() as usize + (x - r.x0) as usize;
-        let (acc, noise) = &self.saved[i];
-        (self.flags[i], acc, noise)
+        let s = &self.saved;
+        acc.restore(&s.nodes, &s.values[i * s.width..(i + 1) * s.width]);
+        match s.noise.get(i) {
+            Some(n) => noise.clone_from(n),
+            None => noise.clear(),
+        }
+        self.flags[i]
     }
 }

@@ -480,6 +480,7 @@ pub fn render_part(
                 w,
                 camera.height,
                 nch,
+                adaptive.is_on(),
                 &mut stats,
                 &|| stopped(control.stop),
                 |x, y, sc, st| {
@@ -560,10 +561,7 @@ pub fn render_part(
                     // Samples this pixel took when it stopped early.
                     let stopped_at = match &edges {
                         Some(e) => {
-                            let (flagged, acc, noise) = e.pixel(x, y);
-                            scratch.acc.clone_from(acc);
-                            scratch.noise.clone_from(noise);
-                            if flagged {
+                            if e.pixel(x, y, &mut scratch.acc, &mut scratch.noise) {
                                 let stop = |taken: u32, n: &PixelNoise| {
                                     taken > base && noise_stops(taken, n)
                                 };
