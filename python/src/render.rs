@@ -174,6 +174,7 @@ pub fn render(py: Python<'_>, scene: &Scene, label: &str, request: &Request) -> 
         w as u64 * h as u64,
         lambdas.len(),
         1,
+        scene.settings.adaptive.edges_on(),
         &format!("a {w}x{h} render of {} wavelength(s)", lambdas.len()),
     )
     .map_err(errors::cli)?;

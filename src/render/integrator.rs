@@ -996,8 +996,11 @@ impl<'a> Tracer<'a> {
         let leaving = -dir;
         if !(leaving.dot(normal) > 0.0) {
             // Met the facet from its far side (a grazing ray at an edge, or
-            // a camera inside the object): no outgoing wave on our side.
-            if depth == 0 {
+            // a camera inside the object): no outgoing wave on our side. A
+            // camera ray that meets a back face at the triangle's edge
+            // grazed the silhouette; inside it, the camera is in the
+            // object.
+            if depth == 0 && !at_triangle_edge(&hit) {
                 stats.lose(|c| &mut c.camera_inside);
             } else {
                 stats.lose(|c| &mut c.wrong_side);
@@ -1334,6 +1337,52 @@ impl<'a> Tracer<'a> {
             for (o, m) in out.iter_mut().zip(batch) {
                 *o = *o * (-absorb::depth(w, m.absorption[object as usize])).exp();
             }
+        }
+    }
+}
+
+/// A hit's barycentric distance to its triangle's edges below which a
+/// camera ray that meets the triangle from behind is taken to have grazed
+/// an edge of the silhouette (rounding at the edge) rather than to have
+/// started inside the object (whose rays meet back faces anywhere).
+const EDGE_BAND: f64 = 1e-6;
+
+/// Whether `hit` lies on its triangle's edge (within [`EDGE_BAND`] of it in
+/// barycentric coordinates).
+fn at_triangle_edge(hit: &Hit) -> bool {
+    hit.u.min(hit.v).min(1.0 - hit.u - hit.v) < EDGE_BAND
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn hit(u: f64, v: f64) -> Hit {
+        Hit {
+            t: 1.0,
+            geom: 0,
+            prim: 0,
+            u,
+            v,
+            ng: DVec3::Z,
+        }
+    }
+
+    /// Near any of the three edges (u = 0, v = 0, u + v = 1) a hit is at the
+    /// edge; at the centroid and a little inside, it is not.
+    #[test]
+    fn hits_on_a_triangles_edges_are_told_from_hits_inside_it() {
+        for (u, v) in [
+            (0.0, 0.5),
+            (1e-9, 0.3),
+            (0.5, 1e-8),
+            (0.4, 0.6 - 1e-9),
+            (0.0, 0.0),
+        ] {
+            assert!(at_triangle_edge(&hit(u, v)), "({u}, {v})");
+        }
+        for (u, v) in [(1.0 / 3.0, 1.0 / 3.0), (1e-4, 0.5), (0.5, 0.5 - 1e-4)] {
+            assert!(!at_triangle_edge(&hit(u, v)), "({u}, {v})");
         }
     }
 }
