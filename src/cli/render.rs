@@ -209,6 +209,19 @@ fn idle_samples_note(options: &RenderOptions) -> Option<String> {
     })
 }
 
+/// Edge-adaptive sampling that cannot stop a pixel early: its first
+/// samples are all the pixel's samples (`min_samples` ≥ `samples`).
+fn idle_edges_note(options: &RenderOptions) -> Option<String> {
+    let a = options.adaptive;
+    (a.edges_on() && a.min_samples >= options.samples).then(|| {
+        format!(
+            "edges = {} changes nothing: every pixel takes its first {} samples, and there are \
+             {} (lower --min-samples: 8 or 16 pay)",
+            a.edges, a.min_samples, options.samples
+        )
+    })
+}
+
 pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let started = Instant::now();
     let job = checked_job(args)?;
@@ -222,7 +235,10 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let reporter = Reporter::new(progress_mode);
     let options = prepare::options(&job.scene, &job.traced, job.mono_nm, reporter.wants_bar());
     debug_assert_eq!(options.lambdas, lambdas);
-    if let Some(n) = idle_samples_note(&options) {
+    for n in [idle_samples_note(&options), idle_edges_note(&options)]
+        .into_iter()
+        .flatten()
+    {
         if !args.quiet {
             eprintln!("spar: note: {}: {n}", job.label);
         }

@@ -504,6 +504,25 @@ fn edges_flags_are_checked_refuse_sample_blocks_and_colour_on_some_samples() {
     refuses_bad_values(d, "--edges", "edges", "contrast in display units");
     // A pixel decides from its neighbours' first samples: a block cannot.
     refuses_a_sample_block(d, "--edges", "edge-adaptive");
+    // With every sample among the first ones, nothing can stop early.
+    let (code, o, e) = spar(
+        d,
+        &[
+            "render",
+            "scene.toml",
+            "--samples",
+            "8",
+            "--edges",
+            "0.02",
+            "-o",
+            "i.png",
+        ],
+    );
+    assert_eq!(code, 0, "{o}{e}");
+    assert!(
+        e.contains("changes nothing") && e.contains("first 32 samples, and there are 8"),
+        "{e}"
+    );
     // Colour on the first half of the samples needs every pixel's count.
     refused(
         d,
