@@ -505,19 +505,8 @@ fn edges_flags_are_checked_refuse_sample_blocks_and_colour_on_some_samples() {
     // A pixel decides from its neighbours' first samples: a block cannot.
     refuses_a_sample_block(d, "--edges", "edge-adaptive");
     // With every sample among the first ones, nothing can stop early.
-    let (code, o, e) = spar(
-        d,
-        &[
-            "render",
-            "scene.toml",
-            "--samples",
-            "8",
-            "--edges",
-            "0.02",
-            "-o",
-            "i.png",
-        ],
-    );
+    let eight = ["render", "scene.toml", "--samples", "8", "--edges", "0.02"];
+    let (code, o, e) = spar(d, &[&eight[..], &["-o", "i.png"]].concat());
     assert_eq!(code, 0, "{o}{e}");
     assert!(
         e.contains("changes nothing") && e.contains("first 32 samples, and there are 8"),
@@ -527,19 +516,10 @@ fn edges_flags_are_checked_refuse_sample_blocks_and_colour_on_some_samples() {
     refused(
         d,
         &[
-            "render",
-            "scene.toml",
-            "--samples",
-            "8",
-            "--edges",
-            "0.02",
-            "--spectral",
-            "hero:2/2",
-            "-m",
-            "color,dop",
-            "-o",
-            "a.png",
-        ],
+            &eight[..],
+            &["--spectral", "hero:2/2", "-m", "color,dop", "-o", "a.png"],
+        ]
+        .concat(),
         &[
             "--spectral",
             "hero:2/2",
