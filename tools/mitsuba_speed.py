@@ -120,6 +120,11 @@ SPAR_CONFIGS = {
     # Points at 16 samples or fewer are the plain configuration's.
     "draft+edges=0.02": ["--quality", "draft", "--edges", "0.02", "--min-samples", "16"],
     "exact+edges=0.02": ["--edges", "0.02", "--min-samples", "16"],
+    # Edge refinement: an edge pixel whose value still moved between a
+    # quarter of its samples and all of them takes four times as many
+    # (MAX4: --max-samples is 4 × the point's samples).
+    "draft+edges+max4=0.02": ["--quality", "draft", "--edges", "0.02", "--min-samples", "16",
+                              "--max-samples", "MAX4"],
 }
 REF_SEEDS = (1000, 1001)
 
@@ -199,7 +204,8 @@ def run_spar(args, name, spp, seed, flags, view=None, res=None):
         f.write(xc.spar_scene(view, res or args.res, spp, True, False))
     out = os.path.join(args.out, name + ".exr")
     cmd = [args.spar, "render", scene, "--mode", "stokes", "--wavelengths", f"{xc.WAVELENGTH_NM:.0f}nm",
-           "--seed", str(seed), "--threads", str(args.threads), "-q", "-o", out] + flags
+           "--seed", str(seed), "--threads", str(args.threads), "-q", "-o", out] + \
+        [str(4 * spp) if f == "MAX4" else f for f in flags]
     c0 = cpu_children()
     subprocess.run(cmd, check=True)
     return out, cpu_children() - c0

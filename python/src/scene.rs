@@ -99,7 +99,7 @@ impl Scene {
     /// Changes several settings at once (samples, resolution, wavelengths,
     /// max_depth, prune, seed, quality, branching, polarization,
     /// coherence, spectral, dispersion, bundle, roulette, adaptive,
-    /// min_samples, edges),
+    /// min_samples, edges, max_samples),
     /// checked together as the command line checks its flags: `quality` is a preset the others override.
     /// On an error nothing changes.
     #[pyo3(signature = (**settings))]
@@ -300,6 +300,19 @@ impl Scene {
     #[setter]
     fn set_edges(&mut self, value: &Bound<'_, PyAny>) -> PyResult<()> {
         self.set_one("edges", value)
+    }
+
+    /// Edge refinement (with `edges`): a pixel at an edge that has taken
+    /// all its samples goes on, four times as many at a time up to this,
+    /// while what it shows still moves by more than `edges` (from its
+    /// first samples to all, then from one step to the next; 0: off).
+    #[getter]
+    fn max_samples(&self) -> u32 {
+        self.inner.settings.adaptive.max_samples
+    }
+    #[setter]
+    fn set_max_samples(&mut self, value: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.set_one("max_samples", value)
     }
 
     /// Applies a quality preset (draft, fast, default, reference): depth,

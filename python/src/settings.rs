@@ -20,7 +20,7 @@ use std::str::FromStr;
 
 /// The settings a scene takes from Python, in the order the docs list
 /// them.
-pub const NAMES: [&str; 17] = [
+pub const NAMES: [&str; 18] = [
     "samples",
     "resolution",
     "wavelengths",
@@ -38,6 +38,7 @@ pub const NAMES: [&str; 17] = [
     "adaptive",
     "min_samples",
     "edges",
+    "max_samples",
 ];
 
 /// What a render takes besides the settings: the lights and the stone's
@@ -187,6 +188,7 @@ fn set(o: &mut SceneOverrides, name: &str, value: &Bound<'_, PyAny>) -> PyResult
         "adaptive" => o.adaptive = Some(real(name, value)?),
         "min_samples" => o.min_samples = Some(whole(name, value)?),
         "edges" => o.edges = Some(real(name, value)?),
+        "max_samples" => o.max_samples = Some(whole(name, value)?),
         "light_rig" => o.light_rig = Some(parsed::<LightRig>(name, value)?),
         "tilt" => o.tilt = Some(real(name, value)?),
         other => {
@@ -251,5 +253,6 @@ pub fn as_dict<'py>(py: Python<'py>, scene: &Scene) -> PyResult<Bound<'py, PyDic
     d.set_item("adaptive", s.adaptive.noise)?;
     d.set_item("min_samples", s.adaptive.min_samples)?;
     d.set_item("edges", s.adaptive.edges)?;
+    d.set_item("max_samples", s.adaptive.max_samples)?;
     Ok(d)
 }

@@ -89,6 +89,15 @@ def test_a_bad_setting_is_refused_and_changes_nothing(repo):
         scene.edges = -1.0
     scene.set(adaptive=0, edges=0.02, min_samples=8)
     assert (scene.edges, scene.settings["edges"]) == (0.02, 0.02)
+    samples = scene.samples
+    scene.samples = 8
+    with pytest.raises(spar.InputError, match="4 is below the 8 samples per pixel"):
+        scene.max_samples = 4
+    scene.max_samples = 32
+    assert (scene.max_samples, scene.settings["max_samples"]) == (32, 32)
+    with pytest.raises(spar.InputError, match="needs edge-adaptive sampling"):
+        scene.edges = 0
+    scene.set(edges=0, max_samples=0, samples=samples)
     with pytest.raises(spar.InputError, match="roulette must be a fraction"):
         scene.roulette = 1.0
     assert scene.roulette == 0.0

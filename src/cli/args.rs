@@ -205,6 +205,13 @@ pub struct SceneOverrides {
     /// --samples. 0: off. Overrides the scene.
     #[arg(long, value_name = "CONTRAST")]
     pub edges: Option<f64>,
+    /// Edge refinement (with --edges): a pixel at an edge that has taken
+    /// all --samples goes on, four times as many at a time up to N, while
+    /// what it shows still moves by more than --edges' CONTRAST (from its
+    /// first samples to all, then from one step to the next). A good N:
+    /// 4 × --samples. 0: off (the default). Overrides the scene.
+    #[arg(long, value_name = "N")]
+    pub max_samples: Option<u32>,
     /// Spectral sampling of the colour wavelengths: all (every one for
     /// every sample) or hero:K (K stratified wavelengths per sample,
     /// rotating over runs of samples), either optionally followed by /N: colour
@@ -286,6 +293,7 @@ impl SceneOverrides {
             adaptive: set(self.adaptive, "--adaptive", origin),
             min_samples: set(self.min_samples, "--min-samples", origin),
             edges: set(self.edges, "--edges", origin),
+            max_samples: set(self.max_samples, "--max-samples", origin),
         };
         [self.quality.map(Quality::layer).unwrap_or_default(), flags]
     }
@@ -438,6 +446,9 @@ impl SceneOverrides {
         }
         if let Some(e) = self.edges {
             a.extend(["--edges".into(), e.to_string()]);
+        }
+        if let Some(n) = self.max_samples {
+            a.extend(["--max-samples".into(), n.to_string()]);
         }
         if let Some(r) = self.light_rig {
             a.extend(["--light-rig".into(), r.to_string()]);

@@ -635,8 +635,12 @@ fn print_summary(
 ) {
     let secs = render_time.as_secs_f64();
     let samples = if options.adaptive.edges_on() {
+        let most = match options.adaptive.max_samples {
+            0 => String::new(),
+            m => format!(", up to {m}"),
+        };
         format!(
-            "{} (edges {}: {:.2} per pixel)",
+            "{} (edges {}{most}: {:.2} per pixel)",
             job.spec.samples.label(),
             options.adaptive.edges,
             stats.samples as f64 / job.spec.region.area().max(1) as f64

@@ -155,6 +155,9 @@ impl RenderInfo {
                         " edges={} min_samples={}",
                         adaptive.edges, adaptive.min_samples
                     );
+                    if adaptive.max_samples > 0 {
+                        s += &format!(" max_samples={}", adaptive.max_samples);
+                    }
                 }
                 s
             },

@@ -67,6 +67,12 @@ pub struct Adaptive {
     /// differs from one of its eight neighbours by more than this, in
     /// display units ([`contrast`]).
     pub edges: f64,
+    /// Edge refinement's most samples per pixel (0: off; at least the
+    /// render's samples): a pixel at an edge that has taken its `samples`
+    /// goes on, four times as many at a time, while what it shows still
+    /// moves by more than `edges` (since its first samples, then since the
+    /// step before; [`Adaptive::refines_to`]).
+    pub max_samples: u32,
 }
 
 /// Default samples before a pixel's first check.
@@ -78,6 +84,7 @@ impl Default for Adaptive {
             noise: 0.0,
             min_samples: DEFAULT_MIN_SAMPLES,
             edges: 0.0,
+            max_samples: 0,
         }
     }
 }
@@ -98,6 +105,15 @@ impl Adaptive {
     /// one part.
     pub fn decides(&self) -> bool {
         self.is_on() || self.edges_on()
+    }
+
+    /// The sample count after `taken` of edge refinement's next step
+    /// (`None`: no step left): four times `taken`, at most `max_samples`.
+    /// Only pixels flagged at an edge refine, after all `total` samples.
+    pub fn refines_to(&self, taken: u32, total: u32) -> Option<u32> {
+        let most = self.max_samples.max(total);
+        (self.edges_on() && taken >= total && taken < most)
+            .then(|| taken.saturating_mul(4).min(most))
     }
 
     /// Whether a pixel that has taken `taken` of `total` samples checks
@@ -333,11 +349,39 @@ mod tests {
     use super::*;
 
     #[test]
+    fn refinement_steps_by_four_up_to_the_most_and_only_with_edges() {
+        let a = Adaptive {
+            edges: 0.02,
+            max_samples: 1000,
+            ..Adaptive::default()
+        };
+        let steps = |a: &Adaptive, total: u32| {
+            let mut at = vec![total];
+            while let Some(next) = a.refines_to(*at.last().unwrap(), total) {
+                at.push(next);
+            }
+            at
+        };
+        assert_eq!(steps(&a, 16), [16, 64, 256, 1000]);
+        assert_eq!(steps(&a, 250), [250, 1000]);
+        assert_eq!(steps(&a, 1000), [1000]);
+        assert_eq!(a.refines_to(8, 16), None, "not before all samples");
+        let off = Adaptive {
+            max_samples: 0,
+            ..a
+        };
+        assert_eq!(steps(&off, 16), [16]);
+        let no_edges = Adaptive { edges: 0.0, ..a };
+        assert_eq!(steps(&no_edges, 16), [16]);
+    }
+
+    #[test]
     fn checks_come_at_min_then_doubling_below_the_total() {
         let a = Adaptive {
             noise: 0.01,
             min_samples: 4,
             edges: 0.0,
+            max_samples: 0,
         };
         let at: Vec<u32> = (1..=64).filter(|&t| a.checks_at(t, 64)).collect();
         assert_eq!(at, [4, 8, 16, 32]);
@@ -347,6 +391,7 @@ mod tests {
             noise: 0.01,
             min_samples: 6,
             edges: 0.0,
+            max_samples: 0,
         };
         let at: Vec<u32> = (1..=100).filter(|&t| b.checks_at(t, 100)).collect();
         assert_eq!(at, [6, 12, 24, 48, 96]);

@@ -16,6 +16,16 @@
 //! one-pixel border of first samples around itself, so regions and tiles
 //! give the pixels of a whole render bit for bit. Sample blocks cannot
 //! decide and are refused, as with adaptive sampling.
+//!
+//! Edge refinement (`max_samples`; `refine` in `render_part`): a flagged
+//! pixel that has taken all its samples compares what it shows with what
+//! it showed after its first samples ([`contrast`], the same threshold)
+//! and, if that moved, takes four times as many, and again while its
+//! value moves from one step to the next, up to `max_samples`.
+//! Its own samples decide, so tiles still merge bit for bit. Why its own
+//! value's movement: on the cube, a flagged pixel's error is mostly luck
+//! (where its samples fell against its edge), which its neighbours
+//! cannot show but the change of its own value can.
 
 use super::adaptive::{contrast, PixelNoise, SHOWN};
 use super::blocks::{Accumulator, Node};
@@ -37,7 +47,7 @@ pub(super) struct FirstSamples {
 /// The region's pixels' sums after their first samples, row-major: the
 /// same nodes for every pixel (they depend only on the count), so one
 /// flat array of values, and each pixel's noise sums only where a later
-/// check needs them (adaptive sampling on). About four `f32` per
+/// check needs them (adaptive sampling or edge refinement on). About four `f32` per
 /// wavelength and pixel, as the film itself.
 #[derive(Default)]
 struct Saved {

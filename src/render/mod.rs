@@ -366,7 +366,13 @@ pub fn render_part(
     // The first `traced` samples of a pixel trace colour (`/N`); the
     // strata cycle over them, or over the first check's (a pixel may stop
     // there).
-    let traced = spectral.colour_samples(total);
+    // Edge refinement may take up to `most` samples; they all trace colour.
+    let most = if adaptive.edges_on() {
+        adaptive.max_samples.max(total)
+    } else {
+        total
+    };
+    let traced = spectral.colour_samples(most);
     let first_check = measure.as_ref().map(|_| adaptive.min_samples);
     let period = approx::stratum_period(stride, traced, first_check);
 
@@ -410,7 +416,7 @@ pub fn render_part(
             // do not trace it. A pixel that may stop early does not know
             // its sample count, so it weighs by the stride.
             let colour_weight =
-                approx::stratum_weight(stride, first, traced, total, measure.is_none(), stratum);
+                approx::stratum_weight(stride, first, traced, most, measure.is_none(), stratum);
             let (jx, jy) = match camera.sampling {
                 camera::PixelSampling::Jittered => key.pixel_position(),
                 camera::PixelSampling::Center => (0.5, 0.5),
@@ -480,7 +486,7 @@ pub fn render_part(
                 w,
                 camera.height,
                 nch,
-                adaptive.is_on(),
+                adaptive.is_on() || most > total,
                 &mut stats,
                 &|| stopped(control.stop),
                 |x, y, sc, st| {
@@ -491,6 +497,34 @@ pub fn render_part(
             Some(pass.flag(adaptive.edges))
         }
         _ => None,
+    };
+    // Edge refinement (render::edges): a flagged pixel takes its
+    // `total` samples, then four times as many at a time up to `most`
+    // while what it shows moved by more than `edges`: since its first
+    // samples at the first step, since the step before at the others.
+    // Returns the samples taken when that is not `total`.
+    let refine = |x: u32,
+                  y: u32,
+                  m: &NoiseMeasure,
+                  scratch: &mut PixelScratch,
+                  stats: &mut Stats,
+                  stop: &dyn Fn(u32, &PixelNoise) -> bool|
+     -> Option<u32> {
+        let mut before = scratch.noise.shown(m);
+        if let Some(t) = run(x, y, base, total, scratch, stats, stop) {
+            return Some(t);
+        }
+        let mut taken = total;
+        while let Some(next) = adaptive.refines_to(taken, total) {
+            let now = scratch.noise.shown(m);
+            if adaptive::contrast(&before, &now) <= adaptive.edges {
+                break;
+            }
+            run(x, y, taken, next, scratch, stats, &|_, _| false);
+            before = now;
+            taken = next;
+        }
+        (taken > total).then_some(taken)
     };
     let grid = tiles(spec.region, control.tile_size);
     let total_tiles = grid.len();
@@ -559,18 +593,22 @@ pub fn render_part(
             for y in tile.y0..tile.y1 {
                 for x in tile.x0..tile.x1 {
                     // Samples this pixel took when it stopped early.
-                    let stopped_at = match &edges {
-                        Some(e) => {
+                    let stopped_at = match (&edges, &measure) {
+                        (Some(e), Some(m)) => {
                             if e.pixel(x, y, &mut scratch.acc, &mut scratch.noise) {
                                 let stop = |taken: u32, n: &PixelNoise| {
                                     taken > base && noise_stops(taken, n)
                                 };
-                                run(x, y, base, total, &mut scratch, &mut stats, &stop)
+                                if most > total {
+                                    refine(x, y, m, &mut scratch, &mut stats, &stop)
+                                } else {
+                                    run(x, y, base, total, &mut scratch, &mut stats, &stop)
+                                }
                             } else {
                                 Some(base)
                             }
                         }
-                        None => {
+                        _ => {
                             scratch.acc.clear();
                             scratch.noise.clear();
                             let (from, to) = (spec.samples.start, spec.samples.end);

@@ -94,6 +94,8 @@ pub struct SettingsLayer {
     /// Edge-adaptive sampling's contrast threshold (0: off;
     /// render::edges).
     pub edges: Option<Set<f64>>,
+    /// Edge refinement's most samples per pixel (0: off; render::edges).
+    pub max_samples: Option<Set<u32>>,
 }
 
 /// Everything a layer can set: samples per pixel, image size and the
@@ -158,6 +160,7 @@ pub enum Field {
     Adaptive,
     MinSamples,
     Edges,
+    MaxSamples,
     Spectral,
 }
 
@@ -337,6 +340,9 @@ impl SettingsLayer {
             }
             s.render.adaptive.edges = e.value;
         }
+        if let Some(m) = &self.max_samples {
+            s.render.adaptive.max_samples = m.value;
+        }
         Ok(())
     }
 
@@ -392,6 +398,33 @@ pub fn resolve(base: Settings, layers: &[&SettingsLayer]) -> Result<Settings, Se
                  interference needs every eigenwave its own ray (coherence = \"incoherent\", or \
                  bundle = 0)"
             ),
+        });
+    }
+    // Edge refinement goes on past the samples at edges only.
+    let a = s.render.adaptive;
+    if a.max_samples > 0 && (!a.edges_on() || a.max_samples < s.samples) {
+        let origin = layers
+            .iter()
+            .rev()
+            .find_map(|l| l.max_samples.as_ref().map(|m| m.origin.clone()))
+            .unwrap_or(Origin::Flag("--max-samples".into()));
+        let message = if a.edges_on() {
+            format!(
+                "{} is below the {} samples per pixel: it is the most a pixel at an edge \
+                 takes (0: off)",
+                a.max_samples, s.samples
+            )
+        } else {
+            format!(
+                "{} needs edge-adaptive sampling (edges > 0): only pixels at an edge take \
+                 more than the samples per pixel",
+                a.max_samples
+            )
+        };
+        return Err(SettingsError {
+            origin,
+            field: Field::MaxSamples,
+            message,
         });
     }
     // Colour on the first ⌈S/N⌉ samples needs S known up front; a pixel
@@ -477,6 +510,37 @@ mod tests {
 
     fn one(layer: SettingsLayer) -> String {
         layer.check().unwrap_err().to_string()
+    }
+
+    #[test]
+    fn edge_refinement_needs_edges_and_at_least_the_samples() {
+        let layer = |edges: f64, samples: u32, most: u32| SettingsLayer {
+            samples: Some(Set::new(samples, flag("--samples"))),
+            edges: Some(Set::new(edges, flag("--edges"))),
+            max_samples: Some(Set::new(most, file("render.max_samples"))),
+            ..Default::default()
+        };
+        let e = layer(0.0, 16, 64).check().unwrap_err();
+        assert_eq!(e.field, Field::MaxSamples);
+        assert_eq!(
+            e.to_string(),
+            "s.toml:7: render.max_samples: 64 needs edge-adaptive sampling (edges > 0): only \
+             pixels at an edge take more than the samples per pixel"
+        );
+        let e = one(layer(0.02, 256, 64));
+        assert_eq!(
+            e,
+            "s.toml:7: render.max_samples: 64 is below the 256 samples per pixel: it is the \
+             most a pixel at an edge takes (0: off)"
+        );
+        for ok in [
+            layer(0.02, 64, 64),
+            layer(0.02, 16, 1000),
+            layer(0.0, 16, 0),
+        ] {
+            let s = resolve(Settings::defaults(), &[&ok]).unwrap();
+            assert_eq!(s.render.adaptive.max_samples, ok.max_samples.unwrap().value);
+        }
     }
 
     #[test]

@@ -24,6 +24,7 @@
 //! adaptive = 0                 # a pixel stops at this standard error (display units); 0: off
 //! min_samples = 32             # samples before adaptive sampling's first check
 //! edges = 0                    # only pixels differing from a neighbour by this take every sample; 0: off
+//! max_samples = 0              # with edges: an edge pixel still moving goes on to this many; 0: off
 //! units = "mm"                 # one scene unit: nm, um (µm), mm, cm or m
 //!
 //! [media.my_glass]             # custom media (optional)
@@ -337,6 +338,8 @@ pub struct RenderDef {
     pub min_samples: Option<Spanned<u32>>,
     /// Edge-adaptive sampling's contrast threshold (render::edges; 0: off).
     pub edges: Option<Spanned<f64>>,
+    /// Edge refinement's most samples per pixel (render::edges; 0: off).
+    pub max_samples: Option<Spanned<u32>>,
     /// The length of one scene unit: `nm`, `um` (or `µm`), `mm`, `cm`, `m`.
     pub units: Option<Spanned<String>>,
 }

@@ -249,6 +249,10 @@ impl Scene {
                 .edges
                 .as_ref()
                 .map(|e| Set::new(*e.get_ref(), origin(e.span(), "render.edges"))),
+            max_samples: r
+                .max_samples
+                .as_ref()
+                .map(|m| Set::new(*m.get_ref(), origin(m.span(), "render.max_samples"))),
             ..SettingsLayer::default()
         };
         if let Some(b) = &r.branching {

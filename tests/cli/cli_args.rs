@@ -528,4 +528,32 @@ fn edges_flags_are_checked_refuse_sample_blocks_and_colour_on_some_samples() {
     );
     assert!(!d.join("a.png").exists() && !d.join("a.exr").exists());
     renders_and_joins_the_identity(d, "edges");
+    // Edge refinement: with edges, and at least the samples.
+    refused(
+        d,
+        &[
+            "render",
+            "scene.toml",
+            "--samples",
+            "8",
+            "--max-samples",
+            "32",
+        ],
+        &["--max-samples 32 needs edge-adaptive sampling"],
+    );
+    refused(
+        d,
+        &[&eight[..], &["--max-samples", "4", "-o", "m.png"]].concat(),
+        &["--max-samples 4 is below the 8 samples per pixel"],
+    );
+    assert!(!d.join("m.png").exists());
+    let refine = [&eight[..], &["--min-samples", "2", "--max-samples", "32"]].concat();
+    let (code, o, e) = spar(d, &[&refine[..], &["-o", "r.png"]].concat());
+    assert_eq!(code, 0, "{o}{e}");
+    assert!(e.contains("(edges 0.02, up to 32: "), "{e}");
+    let s = settings(&d.join("r.png"));
+    assert!(
+        s.ends_with(" edges=0.02 min_samples=2 max_samples=32"),
+        "{s}"
+    );
 }

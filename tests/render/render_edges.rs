@@ -3,7 +3,9 @@
 //! a pixel takes all of them only when its first samples differ from a
 //! neighbour's; a threshold nothing reaches gives the `min_samples` render
 //! and one everything reaches the full one; and neither tiles nor regions
-//! change a pixel.
+//! change a pixel. Edge refinement (`max_samples`) takes a pixel at an
+//! edge on to the fixed render's value at four times its samples only
+//! where that pixel's value still moved.
 
 use crate::support::render as common;
 use common::*;
@@ -71,6 +73,50 @@ fn each_pixel_is_the_fixed_render_at_its_first_samples_or_at_all() {
 }
 
 #[test]
+fn refined_pixels_are_the_fixed_render_at_four_times_the_samples() {
+    // 16 samples, 4 first, at most 64: a pixel flagged at an edge whose
+    // value moved by more than the threshold between its first 4 samples
+    // and its 16 takes 64, and is then the 64-sample render's pixel.
+    let (scene, _d) = checker_box(16, "edges = 0.02\nmin_samples = 4\nmax_samples = 64");
+    let (film, stats) = render_at(&scene, &LAMBDAS);
+    let (plain_scene, _p) = load(16, 0.02, 4);
+    let (plain, plain_stats) = render_at(&plain_scene, &LAMBDAS);
+    let (four_scene, _a) = load(4, 0.0, 4);
+    let (four, _) = render_at(&four_scene, &LAMBDAS);
+    let (sixty_four_scene, _b) = load(64, 0.0, 4);
+    let (sixty_four, _) = render_at(&sixty_four_scene, &LAMBDAS);
+    let mut refined = 0u64;
+    for y in 0..20 {
+        for x in 0..20 {
+            let got = bits(&film, x, y);
+            if got == bits(&plain, x, y) {
+                continue;
+            }
+            assert_eq!(
+                got,
+                bits(&sixty_four, x, y),
+                "({x}, {y}) is neither render's"
+            );
+            // Only a pixel that went on to all 16 samples refines, and
+            // only one whose value moved from its first 4.
+            assert_ne!(
+                bits(&plain, x, y),
+                bits(&four, x, y),
+                "({x}, {y}) refined from its first samples"
+            );
+            refined += 1;
+        }
+    }
+    assert!(refined > 10, "{refined} pixels refined");
+    assert_eq!(
+        stats.samples,
+        plain_stats.samples + refined * 48,
+        "each refined pixel takes 48 more samples"
+    );
+    assert!(stats.samples < 20 * 20 * 64);
+}
+
+#[test]
 fn a_threshold_nothing_reaches_is_the_first_samples_and_a_tiny_one_every_edge() {
     let (four_scene, _a) = load(4, 0.0, 4);
     let (four, _) = render_at(&four_scene, &LAMBDAS);
@@ -124,8 +170,18 @@ fn part(scene: &Scene, region: Rect, tile_size: u32) -> RawPart {
 #[test]
 fn tiles_and_regions_do_not_change_an_edge_adaptive_render() {
     let (scene, _d) = load(16, 0.02, 4);
-    let whole = part(&scene, Rect::full(20, 20), 16);
-    let tiled = part(&scene, Rect::full(20, 20), 3);
+    tiles_and_regions_agree(&scene);
+}
+
+#[test]
+fn tiles_and_regions_do_not_change_a_refined_render() {
+    let (scene, _d) = checker_box(16, "edges = 0.02\nmin_samples = 4\nmax_samples = 64");
+    tiles_and_regions_agree(&scene);
+}
+
+fn tiles_and_regions_agree(scene: &Scene) {
+    let whole = part(scene, Rect::full(20, 20), 16);
+    let tiled = part(scene, Rect::full(20, 20), 3);
     let to_bits = |d: &[f32]| d.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
     assert_eq!(to_bits(&whole.data), to_bits(&tiled.data));
     // The image as 5×5 regions (farm parts): each region's border pixels
@@ -138,7 +194,7 @@ fn tiles_and_regions_do_not_change_an_edge_adaptive_render() {
                 y0: 5 * ry,
                 y1: 5 * ry + 5,
             };
-            let sub = part(&scene, r, 4);
+            let sub = part(scene, r, 4);
             let ch = whole.channels();
             for y in r.y0..r.y1 {
                 for x in r.x0..r.x1 {

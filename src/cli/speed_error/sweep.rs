@@ -25,7 +25,7 @@ struct ConfigFlags {
 }
 
 /// A configuration's key and the `spar render` flag it stands for.
-const KEYS: [(&str, &str); 16] = [
+const KEYS: [(&str, &str); 17] = [
     ("depth", "--max-depth"),
     ("prune", "--prune"),
     ("spp", "--samples"),
@@ -42,6 +42,7 @@ const KEYS: [(&str, &str); 16] = [
     ("adaptive", "--adaptive"),
     ("min_samples", "--min-samples"),
     ("edges", "--edges"),
+    ("max_samples", "--max-samples"),
 ];
 
 impl Config {
