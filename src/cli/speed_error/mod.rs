@@ -34,7 +34,8 @@ pub struct SpeedErrorArgs {
     /// Settings to measure, one per flag: space-separated `key=value`
     /// (depth, prune, spp, wavelengths, spectral, branching, polarization,
     /// dispersion, quality, seed, coherence, bundle, roulette, adaptive,
-    /// min_samples, edges). Default: a built-in sweep around the scene's settings
+    /// min_samples, edges, max_samples). Default: a built-in sweep around
+    /// the scene's settings
     /// (docs/speed-vs-error.md).
     #[arg(long = "config")]
     pub configs: Vec<String>,

@@ -228,9 +228,10 @@ mod tests {
         assert_eq!(c.prune, Some(1e-2));
         assert_eq!(c.spectral, Some(Spectral::hero(3)));
         assert_eq!(Config::parse("").unwrap().label, "scene");
-        let e = Config::parse("spp=64 edges=0.02 min_samples=8").unwrap();
+        let e = Config::parse("spp=64 edges=0.02 min_samples=8 max_samples=256").unwrap();
         assert_eq!(e.overrides.edges, Some(0.02));
         assert_eq!(e.overrides.min_samples, Some(8));
+        assert_eq!(e.overrides.max_samples, Some(256));
         for bad in [
             "depth",
             "depth=-1",
