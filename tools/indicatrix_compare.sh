@@ -6,7 +6,10 @@
 #   tools/indicatrix_compare.sh [SPAR_BINARY] [WORKDIR]
 # Env: RES (256), IX_SPP (256), IX_BOUNCES (30 = spar's max_depth; indicatrix's own
 #      default is 12), THREADS (2, indicatrix's), SPAR_NS ("1 2 4 8 16 32": tried in
-#      order until spar's whole-image noise is below indicatrix's), ROULETTE (0.1).
+#      order until spar's whole-image noise is below indicatrix's), ROULETTE (0.1),
+#      SPAR_FLAGS (more spar flags for those rows; MAX4 in them becomes 4 x --samples,
+#      e.g. "--edges 0.02 --min-samples 4 --max-samples MAX4"), SPAR_EXACT (1: also the
+#      exact tree at 1 sample, the default; 0: not).
 #      CARGO_TARGET_DIR is honoured (reuse a built indicatrix).
 # Needs cargo (crates.io), oiiotool, python3 (no numpy), GNU time at /usr/bin/time.
 #
@@ -32,6 +35,7 @@ spar=${1:-$here/target/release/spar}
 dir=${2:-$(mktemp -d)}
 RES=${RES:-256} IX_SPP=${IX_SPP:-256} IX_BOUNCES=${IX_BOUNCES:-30} THREADS=${THREADS:-2}
 SPAR_NS=${SPAR_NS:-"1 2 4 8 16 32"} ROULETTE=${ROULETTE:-0.1}
+SPAR_FLAGS=${SPAR_FLAGS:-} SPAR_EXACT=${SPAR_EXACT:-1}
 mkdir -p "$dir"; cd "$dir"
 cp "$spar" ./spar   # a private copy: the build tree's binary may be rebuilt meanwhile
 echo "work dir: $dir" >&2
@@ -353,16 +357,21 @@ sparrun() { # tag flags...
 }
 found=
 for n in $SPAR_NS; do
-  for s in 0 1; do sparrun sp_r${ROULETTE}_n${n}_s$s --roulette "$ROULETTE" --samples $n --seed $s; done
-  read -r _ _ sn sn_rgb sn_stone < <(./noise.sh sp_r${ROULETTE}_n${n}_s0.exr sp_r${ROULETTE}_n${n}_s1.exr mask_sp.pfm)
-  c=$(cpu sp_r${ROULETTE}_n${n}_s0.time)
-  row spar "--roulette $ROULETTE --samples $n, 21 wl" "$c" "$sn" "$sn_rgb" "$sn_stone" "$(ratio $c $ixcpu)"
+  flags=${SPAR_FLAGS//MAX4/$((4 * n))}
+  t=sp_r${ROULETTE}_n${n}${flags:+_more}
+  # shellcheck disable=SC2086  # the extra flags are words
+  for s in 0 1; do sparrun ${t}_s$s --roulette "$ROULETTE" --samples $n --seed $s $flags; done
+  read -r _ _ sn sn_rgb sn_stone < <(./noise.sh ${t}_s0.exr ${t}_s1.exr mask_sp.pfm)
+  c=$(cpu ${t}_s0.time)
+  row spar "--roulette $ROULETTE --samples $n${flags:+ $flags}, 21 wl" "$c" "$sn" "$sn_rgb" "$sn_stone" "$(ratio $c $ixcpu)"
   if awk -v a="$sn" -v b="$ixn" 'BEGIN{exit !(a < b)}'; then found=$n; break; fi
 done
-for s in 0 1; do sparrun sp_r0_n1_s$s --roulette 0 --samples 1 --seed $s; done
-read -r _ _ sn sn_rgb sn_stone < <(./noise.sh sp_r0_n1_s0.exr sp_r0_n1_s1.exr mask_sp.pfm)
-c=$(cpu sp_r0_n1_s0.time)
-row spar "--roulette 0 --samples 1 (exact tree)" "$c" "$sn" "$sn_rgb" "$sn_stone" "$(ratio $c $ixcpu)"
+if [ "$SPAR_EXACT" = 1 ]; then
+  for s in 0 1; do sparrun sp_r0_n1_s$s --roulette 0 --samples 1 --seed $s; done
+  read -r _ _ sn sn_rgb sn_stone < <(./noise.sh sp_r0_n1_s0.exr sp_r0_n1_s1.exr mask_sp.pfm)
+  c=$(cpu sp_r0_n1_s0.time)
+  row spar "--roulette 0 --samples 1 (exact tree)" "$c" "$sn" "$sn_rgb" "$sn_stone" "$(ratio $c $ixcpu)"
+fi
 
 echo
 echo "${RES}x${RES}; noise = RMS(seed 0 - seed 1)/sqrt(2)/mean (Y: luminance, RGB: channels, stone: Y inside the stone)"
