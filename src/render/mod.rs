@@ -592,7 +592,8 @@ pub fn render_part(
             let mut p = 0;
             for y in tile.y0..tile.y1 {
                 for x in tile.x0..tile.x1 {
-                    // Samples this pixel took when it stopped early.
+                    // Samples this pixel took when not all `total`
+                    // (stopped early, or refined past them).
                     let stopped_at = match (&edges, &measure) {
                         (Some(e), Some(m)) => {
                             if e.pixel(x, y, &mut scratch.acc, &mut scratch.noise) {
