@@ -111,9 +111,18 @@ impl Adaptive {
     /// (`None`: no step left): four times `taken`, at most `max_samples`.
     /// Only pixels flagged at an edge refine, after all `total` samples.
     pub fn refines_to(&self, taken: u32, total: u32) -> Option<u32> {
-        let most = self.max_samples.max(total);
-        (self.edges_on() && taken >= total && taken < most)
-            .then(|| taken.saturating_mul(4).min(most))
+        let most = self.most_samples(total);
+        (taken >= total && taken < most).then(|| taken.saturating_mul(4).min(most))
+    }
+
+    /// The most samples a pixel of a `total`-sample render takes: more
+    /// than `total` only with edge refinement on.
+    pub fn most_samples(&self, total: u32) -> u32 {
+        if self.edges_on() {
+            self.max_samples.max(total)
+        } else {
+            total
+        }
     }
 
     /// Whether a pixel that has taken `taken` of `total` samples checks

@@ -47,8 +47,8 @@ pub(super) struct FirstSamples {
 /// The region's pixels' sums after their first samples, row-major: the
 /// same nodes for every pixel (they depend only on the count), so one
 /// flat array of values, and each pixel's noise sums only where a later
-/// check needs them (adaptive sampling or edge refinement on). About four `f32` per
-/// wavelength and pixel, as the film itself.
+/// check needs them (adaptive sampling or edge refinement on). About
+/// four `f32` per wavelength and pixel, as the film itself.
 #[derive(Default)]
 struct Saved {
     nodes: Vec<Node>,

@@ -367,11 +367,7 @@ pub fn render_part(
     // strata cycle over them, or over the first check's (a pixel may stop
     // there).
     // Edge refinement may take up to `most` samples; they all trace colour.
-    let most = if adaptive.edges_on() {
-        adaptive.max_samples.max(total)
-    } else {
-        total
-    };
+    let most = adaptive.most_samples(total);
     let traced = spectral.colour_samples(most);
     let first_check = measure.as_ref().map(|_| adaptive.min_samples);
     let period = approx::stratum_period(stride, traced, first_check);
@@ -498,8 +494,8 @@ pub fn render_part(
         }
         _ => None,
     };
-    // Edge refinement (render::edges): a flagged pixel takes its
-    // `total` samples, then four times as many at a time up to `most`
+    // A flagged pixel (render::edges) takes its `total` samples; with edge
+    // refinement on, it then goes on four times as many at a time up to `most`
     // while what it shows moved by more than `edges`: since its first
     // samples at the first step, since the step before at the others.
     // Returns the samples taken when that is not `total`.
@@ -600,11 +596,7 @@ pub fn render_part(
                                 let stop = |taken: u32, n: &PixelNoise| {
                                     taken > base && noise_stops(taken, n)
                                 };
-                                if most > total {
-                                    refine(x, y, m, &mut scratch, &mut stats, &stop)
-                                } else {
-                                    run(x, y, base, total, &mut scratch, &mut stats, &stop)
-                                }
+                                refine(x, y, m, &mut scratch, &mut stats, &stop)
                             } else {
                                 Some(base)
                             }
