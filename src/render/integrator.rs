@@ -352,6 +352,12 @@ impl CameraHit {
         (self.origin, self.dir)
     }
 
+    /// Whether the ray was traced and meets no object (it reaches a light
+    /// or leaves the scene): a path every wavelength shares.
+    pub fn meets_no_object(&self) -> bool {
+        self.traced.is_some_and(|t| t.hit.is_none())
+    }
+
     /// The traced ray, counting it lost in `stats` when it could not be.
     pub(super) fn traced(&self, stats: &mut Stats) -> Option<Traced> {
         if self.traced.is_none() {
@@ -729,6 +735,8 @@ impl<'a> Tracer<'a> {
 
     /// [`Self::trace_camera`] for a camera ray already traced to its first
     /// surface ([`Self::camera_hit`]): the batches of one sample share it.
+    /// A camera ray that meets no object takes a batch of any media (they
+    /// differ only where a ray meets an object).
     pub fn trace_camera_from(
         &self,
         first: &CameraHit,
@@ -741,7 +749,7 @@ impl<'a> Tracer<'a> {
         let (origin, dir) = first.ray();
         assert_eq!(batch.len(), out.len());
         debug_assert!(
-            batch.iter().all(|m| m.objects == batch[0].objects),
+            first.meets_no_object() || batch.iter().all(|m| m.objects == batch[0].objects),
             "a batch must share its geometry"
         );
         if self.is_coherent() {

@@ -45,8 +45,9 @@ pub mod world;
 /// Sobol' pixel positions (were rotated R2). 3: Russian roulette's and
 /// sampled branching's numbers stratified over a pixel's samples, and
 /// `hero:K`'s colour strata taken by runs of consecutive samples (renders
-/// of the exact tree with every wavelength are unchanged).
-pub const IMAGE_VERSION: u32 = 3;
+/// of the exact tree with every wavelength are unchanged). 4: a `hero:K`
+/// sample whose camera ray meets no object traces every colour wavelength.
+pub const IMAGE_VERSION: u32 = 4;
 
 use crate::accel::Intersector;
 use crate::optics::Coherence;
@@ -348,6 +349,18 @@ pub fn render_part(
     let spectral = opts.approx.spectral;
     let stride = spectral.stride(colour);
     let batches = batches_by_stratum(scene, opts, stride);
+    // Every wavelength in one batch, for hero samples whose camera ray
+    // meets no object (below): media differ only where a ray meets one.
+    let every: Batches = if stride > 1 {
+        let (idx, media) = batches_by_stratum(scene, opts, 1)
+            .swap_remove(0)
+            .into_iter()
+            .flat_map(|(i, m)| i.into_iter().zip(m))
+            .unzip();
+        vec![vec![(idx, media)]]
+    } else {
+        Vec::new()
+    };
     let tracer = Tracer::new(scene, accel, opts.tree).with_strategy(opts.approx.strategy);
     // Sum each sample as it is where one sample alone may be unphysical.
     let linear = tracer.estimates_may_be_unphysical();
@@ -408,11 +421,6 @@ pub fn render_part(
             } else {
                 stride
             };
-            // A thinned-out colour wavelength stands for the samples that
-            // do not trace it. A pixel that may stop early does not know
-            // its sample count, so it weighs by the stride.
-            let colour_weight =
-                approx::stratum_weight(stride, first, traced, most, measure.is_none(), stratum);
             let (jx, jy) = match camera.sampling {
                 camera::PixelSampling::Jittered => key.pixel_position(),
                 camera::PixelSampling::Center => (0.5, 0.5),
@@ -427,8 +435,27 @@ pub fn render_part(
             // Every batch of wavelengths starts from the same first
             // surface.
             let hit = tracer.camera_hit(eye, d);
+            // A thinned-out colour wavelength stands for the samples that
+            // do not trace it. A pixel that may stop early does not know
+            // its sample count, so it weighs by the stride. A hero sample
+            // whose camera ray meets no object (it sees a light or nothing)
+            // has one path for every wavelength: it traces them all, each
+            // weighing as if every colour sample traced it (the pixel's
+            // value split by where its camera ray goes, each part
+            // estimated from its own samples: docs/physics.md §6.3).
+            let (set, colour_weight) = if stride > 1 && sample < traced && hit.meets_no_object() {
+                (
+                    &every[0],
+                    approx::stratum_weight(1, 0, traced, most, measure.is_none(), 0),
+                )
+            } else {
+                (
+                    &batches[stratum],
+                    approx::stratum_weight(stride, first, traced, most, measure.is_none(), stratum),
+                )
+            };
             acc.push_with(leaf, |v| {
-                for (idx, batch) in &batches[stratum] {
+                for (idx, batch) in set {
                     let out = &mut out[..idx.len()];
                     tracer.trace_camera_from(&hit, [bx, by], batch, &key, out, stats);
                     for (&i, j) in idx.iter().zip(out.iter()) {

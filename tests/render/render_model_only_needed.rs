@@ -181,18 +181,40 @@ fn scene_files_set_dispersion_as_a_flag_or_bands() {
     }
 }
 
+/// A slab of glass of constant index, 6 × 6 across and 0.2 thick, centred
+/// at z = 1.
+fn slab_obj() -> String {
+    let mut obj = String::new();
+    for z in [0.9, 1.1] {
+        for (x, y) in [(-3.0, -3.0), (3.0, -3.0), (3.0, 3.0), (-3.0, 3.0)] {
+            obj += &format!("v {x} {y} {z}\n");
+        }
+    }
+    // Bottom, top, then the four sides, wound outwards.
+    for f in [
+        "1 3 2", "1 4 3", "5 6 7", "5 7 8", "1 2 6", "1 6 5", "2 3 7", "2 7 6", "3 4 8", "3 8 7",
+        "4 1 5", "4 5 8",
+    ] {
+        obj += &format!("f {f}\n");
+    }
+    obj
+}
+
 #[test]
 fn hero_wavelengths_are_exact_where_every_sample_sees_the_same_light() {
-    // A uniform unpolarized light fills the view: every sample of a pixel
-    // sees the same spectrum, so each wavelength's estimate (the mean of
-    // the samples that trace it) is the full spectrum's, for any sample
-    // count of at least the stride: 14 samples are 2 rounds of stride 7,
-    // and 9 and 16 are not whole rounds (each wavelength traced 1-2 or 2-3
-    // times: weighting by the stride alone would miss by up to 1/3); 16
-    // and 32 samples trace the strata in runs of 2-3 and 4-5 consecutive
-    // samples. With
-    // `/2` colour is traced on the first half of the samples (7 or 8 of
-    // 14 or 16 for `hero:3/2`, 2 of 3 for `all/2`).
+    // A uniform unpolarized light fills the view, seen straight on by an
+    // orthographic camera, directly or through a slab of glass of constant
+    // index: every sample of a pixel sees the same spectrum, so each
+    // wavelength's estimate is the full spectrum's, for any sample count
+    // of at least the stride. Through the slab, hero samples trace their
+    // stratum (the mean of the samples that trace it): 14 samples are 2
+    // rounds of stride 7, and 9 and 16 are not whole rounds (each
+    // wavelength traced 1-2 or 2-3 times: weighting by the stride alone
+    // would miss by up to 1/3); 16 and 32 samples trace the strata in runs
+    // of 2-3 and 4-5 consecutive samples. Seen directly, every sample
+    // traces every wavelength (its camera ray meets no object). With `/2`
+    // colour is traced on the first half of the samples (7 or 8 of 14 or
+    // 16 for `hero:3/2`, 2 of 3 for `all/2`).
     let hero_every_2 = Spectral {
         every: 2,
         ..Spectral::hero(3)
@@ -201,55 +223,121 @@ fn hero_wavelengths_are_exact_where_every_sample_sees_the_same_light() {
         every: 2,
         ..Spectral::ALL
     };
-    for (spectral, samples) in [
-        (Spectral::hero(3), 14u32),
-        (Spectral::hero(3), 9),
-        (Spectral::hero(3), 16),
-        (Spectral::hero(3), 32),
-        (hero_every_2, 14),
-        (hero_every_2, 16),
-        (all_every_2, 3),
-    ] {
-        let toml = format!(
-            r#"
+    for slab in [false, true] {
+        for (spectral, samples) in [
+            (Spectral::hero(3), 14u32),
+            (Spectral::hero(3), 9),
+            (Spectral::hero(3), 16),
+            (Spectral::hero(3), 32),
+            (hero_every_2, 14),
+            (hero_every_2, 16),
+            (all_every_2, 3),
+        ] {
+            let object = if slab {
+                "[[object]]\nmesh = \"slab.obj\"\nmedium = \"iso:1.5\"\n"
+            } else {
+                ""
+            };
+            let toml = format!(
+                r#"
 [camera]
 eye = [0.0, 0.0, 5.0]
 look_at = [0.0, 0.0, 0.0]
 up = [0.0, 1.0, 0.0]
-fov = 10.0
+projection = "orthographic"
+width = 1.0
 resolution = [4, 4]
 samples = {samples}
+{object}
 [[light]]
 corners = [[-2.0, -2.0, 0.0], [2.0, -2.0, 0.0], [2.0, 2.0, 0.0], [-2.0, 2.0, 0.0]]
 radiance = 1.0
 "#
-        );
-        let (mut scene, _d) = scene(&toml, &[]);
-        let lambdas: Vec<f64> = (0..21).map(|i| 380.0 + 20.0 * i as f64).collect();
-        let (all, _) = render_at(&scene, &lambdas);
-        scene.settings.approx.spectral = spectral;
-        let (hero, stats) = render_at(&scene, &lambdas);
-        // 21 wavelengths, 3 per sample: stride 7. Samples without colour
-        // trace nothing here (no single-wavelength mode): one camera ray
-        // per colour sample, ⌈S/N⌉ per pixel.
-        assert_eq!(
-            stats.rays,
-            16 * samples.div_ceil(spectral.every) as u64,
-            "{spectral}"
-        );
-        for y in 0..4 {
-            for x in 0..4 {
-                for i in 0..21 {
-                    let (a, h) = (all.stokes(x, y, i)[0], hero.stokes(x, y, i)[0]);
-                    // Sums of up to 16 f32 values on both sides and an
-                    // inexact weight (16/3): a few f32 roundings.
-                    assert!(
-                        (a - h).abs() <= 4.0 * f32::EPSILON as f64 * a,
-                        "{spectral}, {samples} samples: {a} vs {h}"
-                    );
+            );
+            let (mut scene, _d) = scene(&toml, &[("slab.obj", slab_obj())]);
+            let lambdas: Vec<f64> = (0..21).map(|i| 380.0 + 20.0 * i as f64).collect();
+            let (all, all_stats) = render_at(&scene, &lambdas);
+            scene.settings.approx.spectral = spectral;
+            let (hero, stats) = render_at(&scene, &lambdas);
+            if slab {
+                // 21 wavelengths, 3 per sample: stride 7. The slab's
+                // wavelengths share one tree (constant index), the same
+                // for every sample, so a hero sample traces what a full
+                // one does, on ⌈S/N⌉ samples per pixel.
+                assert!(
+                    all_stats.rays > 16 * samples as u64,
+                    "{spectral}: the slab is seen"
+                );
+                assert_eq!(
+                    stats.rays,
+                    all_stats.rays / samples as u64 * samples.div_ceil(spectral.every) as u64,
+                    "{spectral}"
+                );
+            } else {
+                // Samples without colour trace nothing here (no
+                // single-wavelength mode): one camera ray per colour
+                // sample, ⌈S/N⌉ per pixel.
+                assert_eq!(
+                    stats.rays,
+                    16 * samples.div_ceil(spectral.every) as u64,
+                    "{spectral}"
+                );
+            }
+            for y in 0..4 {
+                for x in 0..4 {
+                    for i in 0..21 {
+                        let (a, h) = (all.stokes(x, y, i)[0], hero.stokes(x, y, i)[0]);
+                        assert!(a > 0.5, "the light is seen");
+                        // Sums of up to 16 f32 values on both sides and an
+                        // inexact weight (16/3): a few f32 roundings.
+                        assert!(
+                            (a - h).abs() <= 4.0 * f32::EPSILON as f64 * a,
+                            "slab {slab}, {spectral}, {samples} samples: {a} vs {h}"
+                        );
+                    }
                 }
             }
         }
+    }
+}
+
+#[test]
+fn hero_samples_that_meet_no_object_trace_every_wavelength() {
+    // The calcite gem over the textured light: a pixel none of whose camera
+    // rays meets the stone (its full render equals the render without the
+    // stone) is, with hero wavelengths, the full render bit for bit (every
+    // sample traced every wavelength there, weighing 1); a pixel on the
+    // stone is a hero estimate, which differs.
+    let axis = "optic_axis = [0.3, 0.2, 1.0]";
+    let (scene, _d) = scene(&gem("calcite", axis, 16, 7), &[]);
+    let (full, _) = render_at(&scene, &LAMBDAS);
+    let mut bare = scene.clone();
+    bare.objects.clear();
+    let (light_only, _) = render_at(&bare, &LAMBDAS);
+    for k in [2, 3] {
+        let mut hero = scene.clone();
+        hero.settings.approx.spectral = Spectral::hero(k);
+        let (film, _) = render_at(&hero, &LAMBDAS);
+        let (mut off, mut on_differ) = (0, 0);
+        for y in 0..16 {
+            for x in 0..16 {
+                let pixel = |f: &spar::render::film::Film| {
+                    (0..LAMBDAS.len())
+                        .map(|i| f.stokes(x, y, i))
+                        .collect::<Vec<_>>()
+                };
+                if pixel(&full) == pixel(&light_only) {
+                    off += 1;
+                    assert_eq!(pixel(&film), pixel(&full), "hero:{k} ({x}, {y})");
+                } else if pixel(&film) != pixel(&full) {
+                    on_differ += 1;
+                }
+            }
+        }
+        assert!(
+            off >= 64 && on_differ >= 64,
+            "hero:{k}: {off} pixels off the stone, {on_differ} on it differ"
+        );
     }
 }
 
