@@ -9,7 +9,10 @@
 #      order until spar's whole-image noise is below indicatrix's), ROULETTE (0.1),
 #      SPAR_FLAGS (more spar flags for those rows; MAX4 in them becomes 4 x --samples,
 #      e.g. "--edges 0.02 --min-samples 4 --max-samples MAX4"), SPAR_EXACT (1: also the
-#      exact tree at 1 sample, the default; 0: not).
+#      exact tree at 1 sample, the default; 0: not), SPAR_ROWS (';'-separated spar flag
+#      sets, each one more row rendered first whatever its noise, e.g.
+#      "--samples 64 --roulette 0.3 --spectral hero:1; --samples 16 --roulette 0.1";
+#      SPAR_NS="" then skips the search).
 #      CARGO_TARGET_DIR is honoured (reuse a built indicatrix).
 # Needs cargo (crates.io), oiiotool, python3 (no numpy), GNU time at /usr/bin/time.
 #
@@ -34,7 +37,7 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 spar=${1:-$here/target/release/spar}
 dir=${2:-$(mktemp -d)}
 RES=${RES:-256} IX_SPP=${IX_SPP:-256} IX_BOUNCES=${IX_BOUNCES:-30} THREADS=${THREADS:-2}
-SPAR_NS=${SPAR_NS:-"1 2 4 8 16 32"} ROULETTE=${ROULETTE:-0.1}
+SPAR_NS=${SPAR_NS-"1 2 4 8 16 32"} ROULETTE=${ROULETTE:-0.1}
 SPAR_FLAGS=${SPAR_FLAGS:-} SPAR_EXACT=${SPAR_EXACT:-1}
 mkdir -p "$dir"; cd "$dir"
 cp "$spar" ./spar   # a private copy: the build tree's binary may be rebuilt meanwhile
@@ -356,6 +359,19 @@ sparrun() { # tag flags...
     -m stokes-rgb -o $tag.exr --resolution ${RES}x${RES} "$@" > $tag.log 2>&1
 }
 found=
+# SPAR_ROWS: each ';'-separated set of flags is one more row, rendered whatever its noise.
+k=0
+IFS=';' read -ra extra <<< "${SPAR_ROWS:-}"
+for flags in "${extra[@]}"; do
+  flags=$(echo $flags)   # trimmed
+  [ -n "$flags" ] || continue
+  k=$((k + 1)); t=sp_row$k
+  # shellcheck disable=SC2086  # the flags are words
+  for s in 0 1; do sparrun ${t}_s$s --seed $s $flags; done
+  read -r _ _ sn sn_rgb sn_stone < <(./noise.sh ${t}_s0.exr ${t}_s1.exr mask_sp.pfm)
+  c=$(cpu ${t}_s0.time)
+  row spar "$flags, 21 wl" "$c" "$sn" "$sn_rgb" "$sn_stone" "$(ratio $c $ixcpu)"
+done
 for n in $SPAR_NS; do
   flags=${SPAR_FLAGS//MAX4/$((4 * n))}
   t=sp_r${ROULETTE}_n${n}${flags:+_more}
@@ -380,6 +396,6 @@ for r in "${rows[@]}"; do echo "$r"; done
 echo
 if [ -n "$found" ]; then
   echo "smallest spar --samples in ($SPAR_NS) with lower whole-image Y noise than indicatrix $IX_SPP spp: $found"
-else
+elif [ -n "$SPAR_NS" ]; then
   echo "spar's whole-image Y noise stayed above indicatrix's for --samples in: $SPAR_NS"
 fi

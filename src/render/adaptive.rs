@@ -185,6 +185,11 @@ impl NoiseMeasure {
         NoiseMeasure::new(colour_entries.unwrap_or_default(), mono)
     }
 
+    /// `(index, linear sRGB weight)` of each colour wavelength.
+    pub fn colour_weights(&self) -> impl Iterator<Item = (usize, [f64; 3])> + '_ {
+        self.colour.iter().copied()
+    }
+
     /// The quantities of one sample's values (`S0..S3` per wavelength).
     fn quantities(&self, v: &[f32]) -> [f64; QUANTITIES] {
         let mut q = [0.0; QUANTITIES];

@@ -158,21 +158,7 @@ impl Spectral {
     }
 }
 
-/// The colour stratum of sample `j` of a pixel whose strata cycle every
-/// `period` samples (the samples that trace colour; with adaptive
-/// sampling, those of its first check): the period is cut into `stride`
-/// runs of consecutive samples, `⌊period/stride⌋` or `⌈period/stride⌉`
-/// long, taken in rotation from stratum `first`. Consecutive samples are
-/// consecutive points of the pixel's positions (docs/physics.md §6.2), so
-/// each stratum's samples are spread over the pixel (a whole net when the
-/// run is an aligned power of two), and every stratum has its share of
-/// samples.
-pub fn stratum_of(stride: usize, first: usize, period: usize, j: usize) -> usize {
-    let (stride, period) = (stride.max(1), period.max(1));
-    (first + (j % period) * stride / period) % stride
-}
-
-/// The period the colour strata cycle over ([`stratum_of`]): a pixel's
+/// The period the colour strata cycle over ([`Strata`]): a pixel's
 /// `traced` colour samples, or, for a pixel that may stop at its first
 /// check (`first_check`: adaptive sampling's minimum), that check's
 /// samples; never fewer than `stride`, so that a short period still
@@ -183,34 +169,92 @@ pub fn stratum_period(stride: usize, traced: u32, first_check: Option<u32>) -> u
     samples.max(stride)
 }
 
-/// Weight of colour stratum `o`'s values in a pixel of `total` samples
-/// whose first `traced` samples trace colour, sample `j` the stratum
-/// [`stratum_of`]`(stride, first, traced, j)` (docs/physics.md §6.3):
-/// `total / n_o`, where `n_o` is how many of the traced samples trace
-/// stratum `o`, so each wavelength's estimate is the mean of its own
-/// samples and weighs exactly as much as every other wavelength's,
-/// whatever the counts are. With fewer traced samples than the stride
-/// some strata are never traced, and `stride · total / traced` (the weight
-/// of tracing each stratum with probability `traced / stride`) is the
-/// unbiased one; `exact_counts = false` (a pixel that may stop early, not
-/// knowing its sample count) asks for that weight too.
-pub fn stratum_weight(
-    stride: usize,
-    first: usize,
-    traced: u32,
-    total: u32,
-    exact_counts: bool,
-    o: usize,
-) -> f64 {
-    let (traced, total) = (traced as usize, total as f64);
-    if !exact_counts || traced < stride {
-        return stride as f64 * total / traced.max(1) as f64;
+/// How a pixel's colour samples are cut among the colour strata
+/// (docs/physics.md §6.3): over a period of samples (the samples that
+/// trace colour; with adaptive sampling, those of its first check), each
+/// stratum takes one run of consecutive samples, the runs following each
+/// other from a stratum chosen per pixel. Consecutive samples are
+/// consecutive points of the pixel's positions (docs/physics.md §6.2), so
+/// each stratum's samples are spread over the pixel. A run's length is in
+/// proportion to its stratum's weight in the image's colour, at least one
+/// sample (every stratum is traced in every period).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Strata {
+    /// Samples per period of each stratum.
+    runs: Vec<usize>,
+}
+
+impl Strata {
+    /// `importance.len()` strata over a period of `period` samples (at
+    /// least one each): run lengths in proportion to `importance`, the one
+    /// sample each must have first and the rest by largest remainders
+    /// (Neyman allocation for strata of equal per-sample variance and cost:
+    /// n_s ∝ W_s). Even runs (`⌈(q+1)P/m⌉ − ⌈qP/m⌉`) when no stratum
+    /// weighs anything.
+    pub fn new(importance: &[f64], period: usize) -> Strata {
+        let m = importance.len().max(1);
+        let period = period.max(m);
+        let sum: f64 = importance.iter().map(|v| v.max(0.0)).sum();
+        if !(sum > 0.0 && sum.is_finite()) || m == 1 {
+            let runs = (0..m)
+                .map(|q| ((q + 1) * period).div_ceil(m) - (q * period).div_ceil(m))
+                .collect();
+            return Strata { runs };
+        }
+        let spare = (period - m) as f64;
+        let share: Vec<f64> = importance
+            .iter()
+            .map(|v| v.max(0.0) / sum * spare)
+            .collect();
+        let mut runs: Vec<usize> = share.iter().map(|s| 1 + s.floor() as usize).collect();
+        let left = period - runs.iter().sum::<usize>();
+        let mut order: Vec<usize> = (0..m).collect();
+        // Largest remainder first; ties to the lower stratum (stable sort).
+        order.sort_by(|&a, &b| {
+            (share[b] - share[b].floor()).total_cmp(&(share[a] - share[a].floor()))
+        });
+        for &q in order.iter().take(left) {
+            runs[q] += 1;
+        }
+        Strata { runs }
     }
-    // Run q of the period holds the samples j with ⌊j·stride/traced⌋ = q:
-    // ⌈q·traced/stride⌉ ≤ j < ⌈(q+1)·traced/stride⌉.
-    let q = (o + stride - first % stride) % stride;
-    let n = ((q + 1) * traced).div_ceil(stride) - (q * traced).div_ceil(stride);
-    total / n as f64
+
+    /// Samples per period of each stratum.
+    pub fn runs(&self) -> &[usize] {
+        &self.runs
+    }
+
+    fn period(&self) -> usize {
+        self.runs.iter().sum()
+    }
+
+    /// The stratum of sample `j` when the runs start from stratum `first`.
+    pub fn of(&self, first: usize, j: usize) -> usize {
+        let m = self.runs.len();
+        let mut r = j % self.period();
+        for q in 0..m {
+            let o = (first + q) % m;
+            if r < self.runs[o] {
+                return o;
+            }
+            r -= self.runs[o];
+        }
+        unreachable!("a period holds every run")
+    }
+
+    /// Weight of stratum `o`'s values in a pixel of `total` samples whose
+    /// first `traced` samples trace colour: `(period / runs[o]) · total /
+    /// traced`, the inverse of the share of samples that trace `o`. When
+    /// the period is the traced samples (a pixel that knows its sample
+    /// count) that is `total / n_o`, `n_o` the samples that trace `o`: each
+    /// wavelength's estimate is the mean of its own samples and weighs as
+    /// much as every other wavelength's. With fewer traced samples than
+    /// strata (some never traced), `stride · total / traced`, each stratum
+    /// traced with probability `traced / stride`; with adaptive sampling
+    /// (a pixel that may stop early), the share of the first check's.
+    pub fn weight(&self, traced: u32, total: u32, o: usize) -> f64 {
+        self.period() as f64 / self.runs[o] as f64 * total as f64 / traced.max(1) as f64
+    }
 }
 
 /// Which paths the wavelengths follow through dispersive media.
@@ -496,58 +540,93 @@ mod tests {
     fn stratum_weights_weigh_every_wavelength_equally() {
         // Counting the samples directly: stratum o's traced samples times
         // its weight add up to the pixel's sample count, for any count,
-        // start and share of samples that trace colour; every stratum is
-        // traced ⌊traced/stride⌋ or ⌈traced/stride⌉ times.
+        // start, share of samples that trace colour and strata weights;
+        // every stratum is traced at least once, and with equal weights
+        // ⌊traced/stride⌋ or ⌈traced/stride⌉ times.
         for stride in 1..9usize {
-            for first in 0..stride {
-                for total in 1..40u32 {
-                    for every in 1..4 {
-                        let traced = total.div_ceil(every);
-                        let w: Vec<f64> = (0..stride)
-                            .map(|o| stratum_weight(stride, first, traced, total, true, o))
-                            .collect();
-                        let mut sum = vec![0.0; stride];
-                        let mut count = vec![0usize; stride];
-                        for j in 0..traced as usize {
-                            let o = stratum_of(stride, first, traced as usize, j);
-                            sum[o] += w[o];
-                            count[o] += 1;
-                        }
-                        for (o, s) in sum.iter().enumerate() {
-                            if (traced as usize) < stride {
-                                // Unbiased thinning: each stratum traced
-                                // with probability traced / stride.
-                                let p = traced as f64 / stride as f64;
-                                assert!((w[o] * p - total as f64).abs() < 1e-9);
-                            } else {
-                                assert!(
-                                    (s - total as f64).abs() < 1e-9,
-                                    "{stride} {first} {total} {every} {o}"
-                                );
-                                let share = traced as usize / stride;
-                                assert!(count[o] == share || count[o] == share + 1);
+            let uneven: Vec<f64> = (0..stride).map(|o| ((o * 7) % 5) as f64).collect();
+            for importance in [vec![0.0; stride], vec![1.0; stride], uneven] {
+                let even = importance.iter().all(|&v| v == importance[0]);
+                for first in 0..stride {
+                    for total in 1..40u32 {
+                        for every in 1..4 {
+                            let traced = total.div_ceil(every);
+                            let strata =
+                                Strata::new(&importance, stratum_period(stride, traced, None));
+                            let w: Vec<f64> = (0..stride)
+                                .map(|o| strata.weight(traced, total, o))
+                                .collect();
+                            let mut sum = vec![0.0; stride];
+                            let mut count = vec![0usize; stride];
+                            for j in 0..traced as usize {
+                                let o = strata.of(first, j);
+                                sum[o] += w[o];
+                                count[o] += 1;
                             }
-                        }
-                        if every == 1 && total as usize % stride == 0 {
-                            assert!(w.iter().all(|&x| x == stride as f64));
+                            for (o, s) in sum.iter().enumerate() {
+                                if (traced as usize) < stride {
+                                    // Unbiased thinning: each stratum traced
+                                    // with probability traced / stride.
+                                    let p = traced as f64 / stride as f64;
+                                    assert!((w[o] * p - total as f64).abs() < 1e-9);
+                                } else {
+                                    assert!(
+                                        (s - total as f64).abs() < 1e-9,
+                                        "{stride} {first} {total} {every} {o} {importance:?}"
+                                    );
+                                    assert!(count[o] >= 1);
+                                    let share = traced as usize / stride;
+                                    assert!(!even || count[o] == share || count[o] == share + 1);
+                                }
+                            }
+                            if even && every == 1 && total as usize % stride == 0 {
+                                assert!(w.iter().all(|&x| x == stride as f64));
+                            }
                         }
                     }
                 }
-                assert!((0..stride)
-                    .all(|o| stratum_weight(stride, first, 16, 16, false, o) == stride as f64));
             }
         }
     }
 
     #[test]
+    fn runs_follow_the_strata_weights() {
+        // 16 samples over weights 1, 3, 0, 4: one sample each, then the 12
+        // others in proportion (1.5, 4.5, 0, 6), the last one to the
+        // larger remainder (a tie: the lower stratum).
+        assert_eq!(Strata::new(&[1.0, 3.0, 0.0, 4.0], 16).runs(), [3, 5, 1, 7]);
+        // Every period holds each run once, in rotation from `first`.
+        let s = Strata::new(&[1.0, 3.0, 0.0, 4.0], 16);
+        let of: Vec<usize> = (0..16).map(|j| s.of(2, j)).collect();
+        assert_eq!(of, [2, 3, 3, 3, 3, 3, 3, 3, 0, 0, 0, 1, 1, 1, 1, 1]);
+        assert_eq!(s.of(2, 16), 2);
+        // A heavier stratum never has a shorter run, and the runs fill the
+        // period, for weights spread over three orders of magnitude.
+        let w: Vec<f64> = (0..21)
+            .map(|i| (-((i as f64 - 9.0) / 4.0).powi(2)).exp() * 1e3)
+            .collect();
+        for period in [21, 32, 40, 64, 100] {
+            let r = Strata::new(&w, period).runs().to_vec();
+            assert_eq!(r.iter().sum::<usize>(), period);
+            assert!(r.iter().all(|&n| n >= 1));
+            for a in 0..21 {
+                for b in 0..21 {
+                    assert!(w[a] <= w[b] || r[a] >= r[b], "{period}: {a} {b} {r:?}");
+                }
+            }
+        }
+        // Fewer samples than strata: one each (the period is stretched).
+        assert_eq!(Strata::new(&w, 5).runs(), [1; 21]);
+    }
+
+    #[test]
     fn strata_are_runs_of_consecutive_samples_in_rotation() {
-        // 16 samples, stride 4: aligned runs of 4 (each a net of the
-        // pixel's positions); stride 5: runs of 4, 3, 3, 3, 3; a period
-        // repeats (adaptive sampling beyond its first check).
+        // Equal weights, 16 samples, stride 4: aligned runs of 4 (each a
+        // net of the pixel's positions); stride 5: runs of 4, 3, 3, 3, 3; a
+        // period repeats (adaptive sampling beyond its first check).
         let of = |stride, first, period| -> Vec<usize> {
-            (0..16)
-                .map(|j| stratum_of(stride, first, period, j))
-                .collect()
+            let strata = Strata::new(&vec![1.0; stride], period);
+            (0..16).map(|j| strata.of(first, j)).collect()
         };
         assert_eq!(
             of(4, 1, 16),
@@ -570,8 +649,8 @@ mod tests {
         // the strata rotate sample by sample, all five in any 5 samples.
         let period = stratum_period(5, 64, Some(2));
         assert_eq!(period, 5);
-        let seen: std::collections::BTreeSet<usize> =
-            (0..5).map(|j| stratum_of(5, 3, period, j)).collect();
+        let strata = Strata::new(&[1.0, 9.0, 0.0, 2.0, 3.0], period);
+        let seen: std::collections::BTreeSet<usize> = (0..5).map(|j| strata.of(3, j)).collect();
         assert_eq!(seen.len(), 5);
         // Otherwise the traced samples (or the first check's).
         assert_eq!(stratum_period(5, 16, None), 16);

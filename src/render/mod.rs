@@ -169,6 +169,31 @@ fn band_nm(colour: &[f64], i: usize) -> f64 {
 /// wavelength), with their indices; then, at index `stride`, the batches
 /// of a sample that traces no colour (`/N`: the other wavelengths only).
 /// Empty batches are dropped.
+/// Each colour stratum's weight in the image's colour (stratum `s` holds
+/// the colour wavelengths `i ≡ s (mod stride)`): the length of the linear
+/// sRGB its wavelengths give white (D65) light, `‖Σ_i w_i · D65(λ_i)‖`.
+/// Zero for every stratum when the colour wavelengths have no observer.
+fn stratum_importance(
+    scene: &Scene,
+    opts: &RenderOptions,
+    colour: usize,
+    stride: usize,
+) -> Vec<f64> {
+    let measure = NoiseMeasure::for_render(&scene.settings.wavelengths, &opts.lambdas, colour);
+    let mut rgb = vec![[0.0f64; 3]; stride];
+    for (i, w) in measure.colour_weights() {
+        if i < colour {
+            let d65 = crate::spectrum::cie::d65(opts.lambdas[i]);
+            for (sum, w) in rgb[i % stride].iter_mut().zip(w) {
+                *sum += w * d65;
+            }
+        }
+    }
+    rgb.iter()
+        .map(|v| v.iter().map(|x| x * x).sum::<f64>().sqrt())
+        .collect()
+}
+
 type Batches = Vec<Vec<(Vec<usize>, Vec<WavelengthMedia>)>>;
 
 fn batches_by_stratum(scene: &Scene, opts: &RenderOptions, stride: usize) -> Batches {
@@ -384,6 +409,7 @@ pub fn render_part(
     let traced = spectral.colour_samples(most);
     let first_check = measure.as_ref().map(|_| adaptive.min_samples);
     let period = approx::stratum_period(stride, traced, first_check);
+    let strata = approx::Strata::new(&stratum_importance(scene, opts, colour, stride), period);
 
     // Samples `from..to` of pixel (x, y), pushed onto `acc` (and `noise`),
     // stopping after the first sample for which `stop(taken, noise)` holds;
@@ -417,7 +443,7 @@ pub fn render_part(
                 sample,
             };
             let stratum = if sample < traced {
-                approx::stratum_of(stride, first, period, sample as usize)
+                strata.of(first, sample as usize)
             } else {
                 stride
             };
@@ -436,23 +462,21 @@ pub fn render_part(
             // surface.
             let hit = tracer.camera_hit(eye, d);
             // A thinned-out colour wavelength stands for the samples that
-            // do not trace it. A pixel that may stop early does not know
-            // its sample count, so it weighs by the stride. A hero sample
+            // do not trace it: weighed by the inverse of its stratum's
+            // share of the samples (approx::Strata::weight). A hero sample
             // whose camera ray meets no object (it sees a light or nothing)
             // has one path for every wavelength: it traces them all, each
             // weighing as if every colour sample traced it (the pixel's
             // value split by where its camera ray goes, each part
             // estimated from its own samples: docs/physics.md §6.3).
             let (set, colour_weight) = if stride > 1 && sample < traced && hit.meets_no_object() {
-                (
-                    &every[0],
-                    approx::stratum_weight(1, 0, traced, most, measure.is_none(), 0),
-                )
+                (&every[0], most as f64 / traced as f64)
+            } else if stratum < stride {
+                (&batches[stratum], strata.weight(traced, most, stratum))
             } else {
-                (
-                    &batches[stratum],
-                    approx::stratum_weight(stride, first, traced, most, measure.is_none(), stratum),
-                )
+                // No colour on this sample (`/N`): its batches hold only a
+                // single-wavelength mode's wavelength, which weighs 1.
+                (&batches[stratum], 1.0)
             };
             acc.push_with(leaf, |v| {
                 for (idx, batch) in set {
@@ -720,4 +744,40 @@ pub fn render_part(
         },
         stats,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strata_weigh_what_their_wavelengths_give_white_light() {
+        // D65 of unit radiance renders white, linear sRGB (1, 1, 1): with
+        // every wavelength in one stratum its weight is √3, and the strata
+        // of any stride add up to that colour.
+        let toml = "[camera]\neye = [0.0, 0.0, 5.0]\nlook_at = [0.0, 0.0, 0.0]\n\
+                    up = [0.0, 1.0, 0.0]\nfov = 10.0\nresolution = [2, 2]\n\
+                    [background]\nradiance = 1.0\n";
+        let dir = std::env::temp_dir();
+        let scene = Scene::parse(toml, "test.toml", &dir).unwrap();
+        let lambdas = scene.settings.wavelengths.lambdas().to_vec();
+        let n = lambdas.len();
+        assert_eq!(n, 21);
+        let opts = prepare::options_at(&scene, lambdas.clone());
+        let one = stratum_importance(&scene, &opts, n, 1);
+        assert!((one[0] - 3f64.sqrt()).abs() < 1e-6, "{one:?}");
+        let each = stratum_importance(&scene, &opts, n, n);
+        // Green light weighs more than the ends of the range.
+        let at = |nm: f64| each[lambdas.iter().position(|&l| l == nm).unwrap()];
+        assert!(
+            at(560.0) > 20.0 * at(380.0) && at(560.0) > 20.0 * at(780.0),
+            "{each:?}"
+        );
+        // Vector sums: the triangle inequality's bound, reached only when
+        // every stratum has white's hue (they do not).
+        assert!(each.iter().sum::<f64>() > one[0]);
+        let third = stratum_importance(&scene, &opts, n, 7);
+        assert_eq!(third.len(), 7);
+        assert!(third.iter().all(|&w| w > 0.1 * one[0] / 7.0));
+    }
 }
