@@ -28,6 +28,18 @@ fn run(exe: &Path, dir: &Path, args: &[&str], env: &[(&str, Option<&str>)]) -> O
             None => command.env_remove(key),
         };
     }
+    // A freshly copied executable can be "busy" for a moment (Linux
+    // ETXTBSY): a test running beside this one may fork between the copy's
+    // write and its close, and its child holds the write descriptor until
+    // it execs. Try again then.
+    for _ in 0..100 {
+        match command.output() {
+            Err(e) if e.kind() == std::io::ErrorKind::ExecutableFileBusy => {
+                std::thread::sleep(std::time::Duration::from_millis(20))
+            }
+            result => return result.expect("spar runs"),
+        }
+    }
     command.output().expect("spar runs")
 }
 
