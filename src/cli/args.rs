@@ -213,8 +213,10 @@ pub struct SceneOverrides {
     #[arg(long, value_name = "N")]
     pub max_samples: Option<u32>,
     /// Spectral sampling of the colour wavelengths: all (every one for
-    /// every sample) or hero:K (K stratified wavelengths per sample,
-    /// rotating over runs of samples), either optionally followed by /N: colour
+    /// every sample) or hero:K (about K wavelengths per sample, strata
+    /// taken in runs of samples as long as their weight in the colour;
+    /// a sample that meets no object traces them all), either optionally
+    /// followed by /N: colour
     /// on the first 1/N of each pixel's samples only, so a
     /// single-wavelength mode (dop, …) rendered with colour gets N times
     /// colour's samples. Overrides the scene.
