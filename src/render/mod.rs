@@ -46,7 +46,8 @@ pub mod world;
 /// sampled branching's numbers stratified over a pixel's samples, and
 /// `hero:K`'s colour strata taken by runs of consecutive samples (renders
 /// of the exact tree with every wavelength are unchanged). 4: a `hero:K`
-/// sample whose camera ray meets no object traces every colour wavelength.
+/// sample whose camera ray meets no object traces every colour wavelength,
+/// and each stratum's run is as long as its weight in the colour.
 pub const IMAGE_VERSION: u32 = 4;
 
 use crate::accel::Intersector;
@@ -163,12 +164,6 @@ fn band_nm(colour: &[f64], i: usize) -> f64 {
     }
 }
 
-/// For each colour stratum, the batches to trace: each geometry group
-/// restricted to the wavelengths traced with that stratum (colour
-/// wavelengths `i` with `i % stride == stratum`, and every other
-/// wavelength), with their indices; then, at index `stride`, the batches
-/// of a sample that traces no colour (`/N`: the other wavelengths only).
-/// Empty batches are dropped.
 /// Each colour stratum's weight in the image's colour (stratum `s` holds
 /// the colour wavelengths `i ≡ s (mod stride)`): the length of the linear
 /// sRGB its wavelengths give white (D65) light, `‖Σ_i w_i · D65(λ_i)‖`.
@@ -194,6 +189,12 @@ fn stratum_importance(
         .collect()
 }
 
+/// For each colour stratum, the batches to trace: each geometry group
+/// restricted to the wavelengths traced with that stratum (colour
+/// wavelengths `i` with `i % stride == stratum`, and every other
+/// wavelength), with their indices; then, at index `stride`, the batches
+/// of a sample that traces no colour (`/N`: the other wavelengths only).
+/// Empty batches are dropped.
 type Batches = Vec<Vec<(Vec<usize>, Vec<WavelengthMedia>)>>;
 
 fn batches_by_stratum(scene: &Scene, opts: &RenderOptions, stride: usize) -> Batches {
