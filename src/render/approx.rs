@@ -182,6 +182,8 @@ pub fn stratum_period(stride: usize, traced: u32, first_check: Option<u32>) -> u
 pub struct Strata {
     /// Samples per period of each stratum.
     runs: Vec<usize>,
+    /// Their sum, the period (read on every sample).
+    period: usize,
 }
 
 impl Strata {
@@ -199,7 +201,7 @@ impl Strata {
             let runs = (0..m)
                 .map(|q| ((q + 1) * period).div_ceil(m) - (q * period).div_ceil(m))
                 .collect();
-            return Strata { runs };
+            return Strata { runs, period };
         }
         let spare = (period - m) as f64;
         let share: Vec<f64> = importance
@@ -216,7 +218,7 @@ impl Strata {
         for &q in order.iter().take(left) {
             runs[q] += 1;
         }
-        Strata { runs }
+        Strata { runs, period }
     }
 
     /// Samples per period of each stratum.
@@ -224,14 +226,10 @@ impl Strata {
         &self.runs
     }
 
-    fn period(&self) -> usize {
-        self.runs.iter().sum()
-    }
-
     /// The stratum of sample `j` when the runs start from stratum `first`.
     pub fn of(&self, first: usize, j: usize) -> usize {
         let m = self.runs.len();
-        let mut r = j % self.period();
+        let mut r = j % self.period;
         for q in 0..m {
             let o = (first + q) % m;
             if r < self.runs[o] {
@@ -253,7 +251,7 @@ impl Strata {
     /// traced with probability `traced / stride`; with adaptive sampling
     /// (a pixel that may stop early), the share of the first check's.
     pub fn weight(&self, traced: u32, total: u32, o: usize) -> f64 {
-        self.period() as f64 / self.runs[o] as f64 * total as f64 / traced.max(1) as f64
+        self.period as f64 / self.runs[o] as f64 * total as f64 / traced.max(1) as f64
     }
 }
 

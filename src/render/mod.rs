@@ -410,7 +410,13 @@ pub fn render_part(
     let traced = spectral.colour_samples(most);
     let first_check = measure.as_ref().map(|_| adaptive.min_samples);
     let period = approx::stratum_period(stride, traced, first_check);
-    let strata = approx::Strata::new(&stratum_importance(scene, opts, colour, stride), period);
+    // Full spectra have one stratum: no weights to compute.
+    let importance = if stride > 1 {
+        stratum_importance(scene, opts, colour, stride)
+    } else {
+        vec![1.0]
+    };
+    let strata = approx::Strata::new(&importance, period);
 
     // Samples `from..to` of pixel (x, y), pushed onto `acc` (and `noise`),
     // stopping after the first sample for which `stop(taken, noise)` holds;
