@@ -18,7 +18,10 @@ pub const DRAFT_ROULETTE: f64 = 0.03;
 /// default 21, in strata taken by runs of consecutive samples) and its
 /// roulette threshold: issue 13's target-1 point on the glass gem
 /// (512², 16 samples per pixel: colour RMSE 0.0097 and weighted-DoP RMSE
-/// 0.0062 in 9.2 s on 2 cores; docs/speed-vs-error.md).
+/// 0.0062 in 9.2 s on 2 cores), kept when the fronts were re-measured
+/// with image version 4: on both seed gems' colour fronts, and no
+/// hero:K or threshold measured beside it did better in rays × error²
+/// (docs/speed-vs-error.md, "Error against time, 512×512").
 pub const FAST_HERO: u32 = 4;
 pub const FAST_ROULETTE: f64 = 0.03;
 
