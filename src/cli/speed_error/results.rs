@@ -59,17 +59,29 @@ fn plot_of(results: &[Measured], measures: &[Measure]) -> Plot {
 }
 
 /// Reads a results.csv written by [`csv`] (also one without the net
-/// columns, which then equal the RMSE): its measures and rows.
+/// columns, which then equal the RMSE, or with columns of its own, such
+/// as the commit that measured each row: ignored): its measures and rows.
+/// Fields are RFC 4180 (the `csv` crate): a label may hold commas
+/// (`wavelengths=450,550,650`) and quotes.
 pub fn read_csv(path: &Path) -> Result<(Vec<Measure>, Vec<Measured>), String> {
     let name = path.display();
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{name}: {e}"))?;
-    let mut lines = text.lines().enumerate();
-    let (_, header) = lines.next().ok_or(format!("{name}: empty"))?;
-    let cols: Vec<&str> = header.split(',').collect();
-    if cols.get(..3) != Some(&["config", "seconds", "rays"][..]) {
-        return Err(format!("{name}:1: not a spar speed-error results.csv"));
-    }
+    let text = std::fs::read(path).map_err(|e| format!("{name}: {e}"))?;
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .from_reader(text.as_slice());
+    let mut records = reader.records();
+    let header = records
+        .next()
+        .ok_or(format!("{name}: empty"))?
+        .map_err(|e| format!("{name}:1: {e}"))?;
+    let cols: Vec<&str> = header.iter().collect();
     let col = |c: &str| cols.iter().position(|&x| x == c);
+    let (Some(config_col), Some(seconds_col), Some(rays_col)) =
+        (col("config"), col("seconds"), col("rays"))
+    else {
+        return Err(format!("{name}:1: not a spar speed-error results.csv"));
+    };
     let mut measures = Vec::new();
     let mut idx = Vec::new();
     for c in &cols {
@@ -87,9 +99,16 @@ pub fn read_csv(path: &Path) -> Result<(Vec<Measure>, Vec<Measured>), String> {
         idx.push((col(c).expect("found"), max, col(&format!("{m}_rmse_net"))));
     }
     let mut rows = Vec::new();
-    for (n, line) in lines.filter(|(_, l)| !l.trim().is_empty()) {
-        let bad = |what: &str| format!("{name}:{}: {what}", n + 1);
-        let f: Vec<&str> = line.split(',').collect();
+    for record in records {
+        let f = record.map_err(|e| match e.position() {
+            Some(p) => format!("{name}:{}: {e}", p.line()),
+            None => format!("{name}: {e}"),
+        })?;
+        let line = f.position().map_or(0, |p| p.line());
+        let bad = |what: &str| format!("{name}:{line}: {what}");
+        if f.iter().all(|x| x.trim().is_empty()) {
+            continue;
+        }
         if f.len() != cols.len() {
             return Err(bad(&format!(
                 "{} fields, the header has {}",
@@ -101,11 +120,15 @@ pub fn read_csv(path: &Path) -> Result<(Vec<Measure>, Vec<Measured>), String> {
             f[i].parse::<f64>()
                 .ok()
                 .filter(|v| v.is_finite() && *v >= 0.0)
-                .ok_or_else(|| bad(&format!("`{}` in column {} is not a number", f[i], cols[i])))
+                .ok_or_else(|| {
+                    bad(&format!(
+                        "`{}` in column {} is not a number",
+                        &f[i], cols[i]
+                    ))
+                })
         };
-        let label = f[0].trim_matches('"').to_string();
         let mut config = Config::parse("").expect("the empty configuration");
-        config.label = label;
+        config.label = f[config_col].to_string();
         let errors = idx
             .iter()
             .map(|&(r, m, net)| {
@@ -119,8 +142,10 @@ pub fn read_csv(path: &Path) -> Result<(Vec<Measure>, Vec<Measured>), String> {
             .collect::<Result<Vec<_>, String>>()?;
         rows.push(Measured {
             config,
-            seconds: num(1)?,
-            rays: f[2].parse().map_err(|_| bad("rays is not a count"))?,
+            seconds: num(seconds_col)?,
+            rays: f[rays_col]
+                .parse()
+                .map_err(|_| bad("rays is not a count"))?,
             errors,
         });
     }
@@ -144,28 +169,45 @@ pub fn row(m: &Measured, modes: &[Measure]) -> String {
     s
 }
 
-/// The CSV: one row per configuration.
+/// The CSV: one row per configuration, RFC 4180 (the `csv` crate), the
+/// labels quoted, the header not.
 pub fn csv(results: &[Measured], modes: &[Measure]) -> String {
-    let mut s = String::from("config,seconds,rays");
+    let mut header = vec!["config".to_string(), "seconds".into(), "rays".into()];
     for m in modes {
-        let _ = write!(s, ",{0}_rmse,{0}_max,{0}_rmse_net", m.name());
+        let n = m.name();
+        header.extend([
+            format!("{n}_rmse"),
+            format!("{n}_max"),
+            format!("{n}_rmse_net"),
+        ]);
     }
-    for m in modes {
-        let _ = write!(s, ",{}_pareto", m.name());
-    }
-    s.push('\n');
+    header.extend(modes.iter().map(|m| format!("{}_pareto", m.name())));
     let fronts = fronts(results, modes.len());
+    let mut rows = Vec::new();
     for (i, r) in results.iter().enumerate() {
-        let _ = write!(s, "\"{}\",{:.4},{}", r.config.label, r.seconds, r.rays);
+        let mut row = vec![
+            r.config.label.clone(),
+            format!("{:.4}", r.seconds),
+            r.rays.to_string(),
+        ];
         for e in &r.errors {
-            let _ = write!(s, ",{:.6e},{:.6e},{:.6e}", e.rmse, e.max, e.net);
+            row.extend([e.rmse, e.max, e.net].map(|v| format!("{v:.6e}")));
         }
-        for f in &fronts {
-            let _ = write!(s, ",{}", f.contains(&i) as u8);
-        }
-        s.push('\n');
+        row.extend(fronts.iter().map(|f| (f.contains(&i) as u8).to_string()));
+        rows.push(row);
     }
-    s
+    let mut w = csv::WriterBuilder::new()
+        .quote_style(csv::QuoteStyle::NonNumeric)
+        .from_writer(Vec::new());
+    for row in &rows {
+        w.write_record(row).expect("writing CSV into memory");
+    }
+    let bytes = w.into_inner().expect("writing CSV into memory");
+    // The header unquoted (its names need no quotes), as it always was.
+    let mut text = header.join(",");
+    text.push('\n');
+    text.push_str(std::str::from_utf8(&bytes).expect("the CSV of UTF-8 fields is UTF-8"));
+    text
 }
 
 /// The Markdown table of the results, the Pareto points of each mode
@@ -190,4 +232,117 @@ pub fn table(results: &[Measured], modes: &[Measure]) -> String {
         s.push('\n');
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn measured(label: &str, seconds: f64, rmse: f64) -> Measured {
+        let mut config = Config::parse("").expect("the empty configuration");
+        config.label = label.to_string();
+        Measured {
+            config,
+            seconds,
+            rays: 123_456_789_012,
+            errors: vec![
+                ModeError {
+                    rmse,
+                    max: 0.5,
+                    net: rmse * 0.9,
+                },
+                ModeError {
+                    rmse: 2.0 * rmse,
+                    max: 1.0,
+                    net: 2.0 * rmse,
+                },
+            ],
+        }
+    }
+
+    fn measures() -> Vec<Measure> {
+        vec![
+            Measure {
+                mode: OutputMode::Color,
+                weighted: false,
+            },
+            Measure {
+                mode: OutputMode::Dop,
+                weighted: true,
+            },
+        ]
+    }
+
+    fn read_text(text: &str) -> Result<(Vec<Measure>, Vec<Measured>), String> {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("results.csv");
+        std::fs::write(&path, text).unwrap();
+        read_csv(&path)
+    }
+
+    /// A label with commas (a wavelength list) and quotes survives the
+    /// round trip; it split into extra fields before the CSV was RFC 4180.
+    #[test]
+    fn labels_with_commas_and_quotes_read_back() {
+        let rows = [
+            measured("wavelengths=450,550,650 spp=4", 1.5, 0.01),
+            measured("say \"hi\", then spp=2", 2.25, 0.02),
+            measured("scene", 0.125, 0.04),
+        ];
+        let text = csv(&rows, &measures());
+        assert!(
+            text.starts_with("config,seconds,rays,color_rmse,"),
+            "{text}"
+        );
+        assert!(text.contains("\"wavelengths=450,550,650 spp=4\""), "{text}");
+        let (m, back) = read_text(&text).unwrap();
+        assert_eq!(m, measures());
+        assert_eq!(back.len(), rows.len());
+        for (a, b) in rows.iter().zip(&back) {
+            assert_eq!(a.config.label, b.config.label);
+            assert_eq!(a.rays, b.rays);
+            assert!((a.seconds - b.seconds).abs() < 1e-4);
+            for (x, y) in a.errors.iter().zip(&b.errors) {
+                for (u, v) in [(x.rmse, y.rmse), (x.max, y.max), (x.net, y.net)] {
+                    assert!((u - v).abs() <= 1e-6 * u, "{u} {v}");
+                }
+            }
+        }
+    }
+
+    /// Columns of its own (the commit that measured each row, as in
+    /// docs/speed-error/*-v3.csv) are ignored wherever they stand.
+    #[test]
+    fn columns_of_its_own_are_ignored() {
+        let text = "spar,config,seconds,rays,color_rmse,color_max,note\n\
+                    6f0bae1,\"spp=4\",1.5,100,1e-2,0.5,\"a, b\"\n";
+        let (m, rows) = read_text(text).unwrap();
+        assert_eq!(
+            m,
+            vec![Measure {
+                mode: OutputMode::Color,
+                weighted: false
+            }]
+        );
+        assert_eq!(rows.len(), 1);
+        assert_eq!(rows[0].config.label, "spp=4");
+        assert_eq!(rows[0].rays, 100);
+        assert_eq!(rows[0].errors[0].net, 1e-2, "no net column: the RMSE");
+    }
+
+    /// A row with a field too many or too few, or without the three
+    /// columns, is refused naming the line.
+    #[test]
+    fn broken_rows_name_their_line() {
+        let head = "config,seconds,rays,color_rmse,color_max\n";
+        let err = read_text(&format!("{head}\"a\",1,2,0.1,0.2\n\"b\",1,2,0.1\n")).unwrap_err();
+        assert!(err.ends_with(":3: 4 fields, the header has 5"), "{err}");
+        let err = read_text(&format!("{head}\"a\",1,2,0.1,x\n")).unwrap_err();
+        assert!(err.contains(":2: `x` in column color_max"), "{err}");
+        let err = read_text("label,seconds,rays\n").unwrap_err();
+        assert!(
+            err.ends_with(":1: not a spar speed-error results.csv"),
+            "{err}"
+        );
+    }
 }
