@@ -219,7 +219,10 @@ pub struct SceneOverrides {
     /// followed by /N: colour
     /// on the first 1/N of each pixel's samples only, so a
     /// single-wavelength mode (dop, …) rendered with colour gets N times
-    /// colour's samples. Overrides the scene.
+    /// colour's samples. With hero:K and a single-wavelength mode, that
+    /// wavelength's tree estimates the colour wavelengths a sample leaves
+    /// out (a control variate, unbiased); ",plain" at the end turns it
+    /// off. Overrides the scene.
     #[arg(long, value_parser = clap::value_parser!(Spectral))]
     pub spectral: Option<Spectral>,
     /// Dispersion on, off (every wavelength follows the paths of

@@ -115,6 +115,12 @@ pub struct Spectral {
     /// (render::sampling), whose first points are spread evenly and whose
     /// every-other points are not.
     pub every: u32,
+    /// `,plain`: thinned-out colour wavelengths are estimated from their
+    /// own samples only. Otherwise, when a single-wavelength mode's
+    /// wavelength is traced on every sample, its tree, evaluated at every
+    /// colour wavelength, is the control variate of the others
+    /// (render::control, docs/physics.md §6.3; unbiased either way).
+    pub plain: bool,
 }
 
 impl Default for Spectral {
@@ -128,6 +134,7 @@ impl Spectral {
     pub const ALL: Spectral = Spectral {
         per_sample: None,
         every: 1,
+        plain: false,
     };
 
     /// `hero:K`: K stratified colour wavelengths per sample.
@@ -135,6 +142,7 @@ impl Spectral {
         Spectral {
             per_sample: Some(k),
             every: 1,
+            plain: false,
         }
     }
 
@@ -430,6 +438,9 @@ impl fmt::Display for Spectral {
         if self.every > 1 {
             write!(f, "/{}", self.every)?;
         }
+        if self.plain {
+            f.write_str(",plain")?;
+        }
         Ok(())
     }
 }
@@ -441,10 +452,15 @@ impl FromStr for Spectral {
             format!(
                 "`{s}`: spectral sampling is all (every colour wavelength per sample) or hero:K \
                  (K ≥ 1 stratified wavelengths per sample), either optionally followed by /N \
-                 (N ≥ 1: colour on the first 1/N of each pixel's samples only)"
+                 (N ≥ 1: colour on the first 1/N of each pixel's samples only), then optionally \
+                 ,plain (no control variate)"
             )
         };
-        let t = s.trim();
+        let (t, plain) = match s.trim().rsplit_once(',') {
+            Some((h, p)) if p.trim() == "plain" => (h.trim(), true),
+            Some(_) => return Err(bad()),
+            None => (s.trim(), false),
+        };
         let (head, every) = match t.split_once('/') {
             Some((h, n)) => match n.trim().parse::<u32>() {
                 Ok(n) if n >= 1 => (h.trim(), n),
@@ -459,7 +475,11 @@ impl FromStr for Spectral {
                 _ => return Err(bad()),
             },
         };
-        Ok(Spectral { per_sample, every })
+        Ok(Spectral {
+            per_sample,
+            every,
+            plain,
+        })
     }
 }
 
@@ -508,22 +528,49 @@ mod tests {
         for s in ["full", "scalar"] {
             assert_eq!(s.parse::<PolarizationArg>().unwrap().to_string(), s);
         }
-        for s in ["all", "hero:1", "hero:4", "all/2", "hero:7/3"] {
+        for s in [
+            "all",
+            "hero:1",
+            "hero:4",
+            "all/2",
+            "hero:7/3",
+            "hero:4,plain",
+            "hero:7/3,plain",
+        ] {
             assert_eq!(s.parse::<Spectral>().unwrap().to_string(), s);
         }
+        assert_eq!(
+            " hero:2 , plain ".parse::<Spectral>(),
+            Ok(Spectral {
+                plain: true,
+                ..Spectral::hero(2)
+            })
+        );
         assert_eq!("hero:7/1".parse::<Spectral>(), Ok(Spectral::hero(7)));
         assert_eq!(
             " hero:7 / 2 ".parse::<Spectral>(),
             Ok(Spectral {
                 per_sample: Some(7),
-                every: 2
+                every: 2,
+                plain: false,
             })
         );
         for bad in ["", "hybrid", "hybrid:-1", "hybrid:x", "Full"] {
             assert!(bad.parse::<BranchingArg>().is_err(), "{bad}");
         }
         for bad in [
-            "hero:0", "hero", "some", "all/0", "all/", "hero:3/x", "/2", "all/2/2",
+            "hero:0",
+            "hero",
+            "some",
+            "all/0",
+            "all/",
+            "hero:3/x",
+            "/2",
+            "all/2/2",
+            "hero:4,",
+            "hero:4,plane",
+            ",plain",
+            "hero:4,plain,plain",
         ] {
             assert!(bad.parse::<Spectral>().is_err(), "{bad}");
         }

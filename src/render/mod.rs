@@ -21,6 +21,7 @@ pub mod blocks;
 pub mod bundle;
 pub mod camera;
 pub mod coherent;
+mod control;
 mod edges;
 pub mod film;
 pub mod integrator;
@@ -47,8 +48,10 @@ pub mod world;
 /// `hero:K`'s colour strata taken by runs of consecutive samples (renders
 /// of the exact tree with every wavelength are unchanged). 4: a `hero:K`
 /// sample whose camera ray meets no object traces every colour wavelength,
-/// and each stratum's run is as long as its weight in the colour.
-pub const IMAGE_VERSION: u32 = 4;
+/// and each stratum's run is as long as its weight in the colour. 5: with
+/// `hero:K` and a single-wavelength mode, that wavelength's tree is the
+/// colour wavelengths' control variate (render::control).
+pub const IMAGE_VERSION: u32 = 5;
 
 use crate::accel::Intersector;
 use crate::optics::Coherence;
@@ -70,6 +73,8 @@ struct PixelScratch {
     noise: PixelNoise,
     /// One coherence matrix per wavelength of a batch.
     out: Vec<Coherence>,
+    /// The control variate's Stokes parameters per colour wavelength.
+    ys: Vec<[f64; 4]>,
 }
 
 impl PixelScratch {
@@ -78,6 +83,7 @@ impl PixelScratch {
             acc: Accumulator::new(channels),
             noise: PixelNoise::default(),
             out: vec![Coherence::zero(2); wavelengths],
+            ys: vec![[0.0; 4]; wavelengths],
         }
     }
 }
@@ -387,9 +393,21 @@ pub fn render_part(
     } else {
         Vec::new()
     };
+    let variate = if spectral.plain {
+        None
+    } else {
+        control::ControlVariate::new(
+            &geometry_groups(scene, opts),
+            &batches,
+            colour,
+            opts.lambdas.len(),
+            stride,
+        )
+    };
     let tracer = Tracer::new(scene, accel, opts.tree).with_strategy(opts.approx.strategy);
-    // Sum each sample as it is where one sample alone may be unphysical.
-    let linear = tracer.estimates_may_be_unphysical();
+    // Sum each sample as it is where one sample alone may be unphysical
+    // (the control variate's corrections are differences).
+    let linear = tracer.estimates_may_be_unphysical() || variate.is_some();
     let nch = opts.lambdas.len() * 4;
     let nodes = spec.samples.nodes();
     let adaptive = opts.adaptive;
@@ -429,7 +447,12 @@ pub fn render_part(
                stats: &mut Stats,
                stop: &dyn Fn(u32, &PixelNoise) -> bool|
      -> Option<u32> {
-        let PixelScratch { acc, noise, out } = scratch;
+        let PixelScratch {
+            acc,
+            noise,
+            out,
+            ys,
+        } = scratch;
         // The colour stratum of sample 0: random per pixel, then runs of
         // consecutive samples in rotation, so each stratum's samples spread
         // over the pixel.
@@ -485,6 +508,56 @@ pub fn render_part(
                 // single-wavelength mode's wavelength, which weighs 1.
                 (&batches[stratum], 1.0)
             };
+            let stokes = |j: &Coherence| {
+                let j = match &camera.analyzer {
+                    Some(a) => j.transform(a),
+                    None => *j,
+                };
+                let s = if linear {
+                    j.stokes_linear()
+                } else {
+                    j.stokes()
+                };
+                [s.s0, s.s1, s.s2, s.s3]
+            };
+            if let Some(cv) = &variate {
+                // Every colour wavelength on the single wavelength's paths;
+                // the sample's own stratum corrects its wavelengths
+                // (render::control).
+                acc.push_with(leaf, |v| {
+                    let (idx, batch) = &cv.batch;
+                    let out = &mut out[..idx.len()];
+                    tracer.trace_camera_from(&hit, [bx, by], batch, &key, out, stats);
+                    for (&i, j) in idx.iter().zip(out.iter()) {
+                        ys[i] = stokes(j);
+                    }
+                    let mut put = |i: usize, s: [f64; 4]| {
+                        for (c, x) in s.iter().enumerate() {
+                            v[4 * i + c] = *x as f32;
+                        }
+                    };
+                    for (i, y) in ys.iter().enumerate().take(colour + 1) {
+                        put(i, *y);
+                    }
+                    if stratum < stride && !hit.meets_no_object() {
+                        let w = strata.weight(traced, most, stratum);
+                        for (idx, batch) in &cv.hero[stratum] {
+                            let out = &mut out[..idx.len()];
+                            tracer.trace_camera_from(&hit, [bx, by], batch, &key, out, stats);
+                            for (&i, j) in idx.iter().zip(out.iter()) {
+                                put(i, control::corrected(ys[i], Some((stokes(j), w))));
+                            }
+                        }
+                    }
+                    if let Some(m) = &measure {
+                        noise.push(m, v);
+                    }
+                });
+                if stop(sample + 1, noise) {
+                    return Some(sample + 1);
+                }
+                continue;
+            }
             acc.push_with(leaf, |v| {
                 for (idx, batch) in set {
                     let out = &mut out[..idx.len()];
