@@ -520,24 +520,23 @@ pub fn render_part(
                 };
                 [s.s0, s.s1, s.s2, s.s3]
             };
-            if let Some(cv) = &variate {
-                // Every colour wavelength on the single wavelength's paths;
-                // the sample's own stratum corrects its wavelengths
-                // (render::control).
-                acc.push_with(leaf, |v| {
+            // Stokes parameters `s` as wavelength `i`'s channels.
+            let put = |v: &mut [f32], i: usize, s: [f64; 4]| {
+                for (c, x) in s.iter().enumerate() {
+                    v[4 * i + c] = *x as f32;
+                }
+            };
+            acc.push_with(leaf, |v| {
+                if let Some(cv) = &variate {
+                    // Every colour wavelength on the single wavelength's
+                    // paths; the sample's own stratum corrects its
+                    // wavelengths (render::control).
                     let (idx, batch) = &cv.batch;
                     let out = &mut out[..idx.len()];
                     tracer.trace_camera_from(&hit, [bx, by], batch, &key, out, stats);
                     for (&i, j) in idx.iter().zip(out.iter()) {
                         ys[i] = stokes(j);
-                    }
-                    let mut put = |i: usize, s: [f64; 4]| {
-                        for (c, x) in s.iter().enumerate() {
-                            v[4 * i + c] = *x as f32;
-                        }
-                    };
-                    for (i, y) in ys.iter().enumerate().take(colour + 1) {
-                        put(i, *y);
+                        put(v, i, ys[i]);
                     }
                     if stratum < stride && !hit.meets_no_object() {
                         let w = strata.weight(traced, most, stratum);
@@ -545,40 +544,18 @@ pub fn render_part(
                             let out = &mut out[..idx.len()];
                             tracer.trace_camera_from(&hit, [bx, by], batch, &key, out, stats);
                             for (&i, j) in idx.iter().zip(out.iter()) {
-                                put(i, control::corrected(ys[i], Some((stokes(j), w))));
+                                put(v, i, control::corrected(ys[i], Some((stokes(j), w))));
                             }
                         }
                     }
-                    if let Some(m) = &measure {
-                        noise.push(m, v);
-                    }
-                });
-                if stop(sample + 1, noise) {
-                    return Some(sample + 1);
-                }
-                continue;
-            }
-            acc.push_with(leaf, |v| {
-                for (idx, batch) in set {
-                    let out = &mut out[..idx.len()];
-                    tracer.trace_camera_from(&hit, [bx, by], batch, &key, out, stats);
-                    for (&i, j) in idx.iter().zip(out.iter()) {
-                        let w = if i < colour { colour_weight } else { 1.0 };
-                        let j = match &camera.analyzer {
-                            Some(a) => j.transform(a),
-                            None => *j,
-                        };
-                        let s = if linear {
-                            j.stokes_linear()
-                        } else {
-                            j.stokes()
-                        };
-                        v[4 * i..4 * i + 4].copy_from_slice(&[
-                            (w * s.s0) as f32,
-                            (w * s.s1) as f32,
-                            (w * s.s2) as f32,
-                            (w * s.s3) as f32,
-                        ]);
+                } else {
+                    for (idx, batch) in set {
+                        let out = &mut out[..idx.len()];
+                        tracer.trace_camera_from(&hit, [bx, by], batch, &key, out, stats);
+                        for (&i, j) in idx.iter().zip(out.iter()) {
+                            let w = if i < colour { colour_weight } else { 1.0 };
+                            put(v, i, stokes(j).map(|x| w * x));
+                        }
                     }
                 }
                 if let Some(m) = &measure {
