@@ -7,7 +7,10 @@
 //!
 //! Each row is one render (these take seconds to minutes; the spread of
 //! repeated runs on a quiet machine is a few percent, on a shared one much
-//! more: rerun before quoting).
+//! more: rerun before quoting). `CPU (s)` is the process's user + system
+//! time over the render: steadier than wall time where other work shares
+//! the cores, and, beside the wall time, what the threads did in parallel
+//! (wall × threads ÷ CPU is their busy share).
 
 use spar::accel::AccelKind;
 use spar::render::output::OutputMode;
@@ -15,6 +18,10 @@ use spar::render::{prepare, render};
 use spar::scene::Scene;
 use std::path::Path;
 use std::time::Instant;
+
+#[path = "support/mod.rs"]
+#[allow(dead_code)]
+mod support;
 
 fn main() {
     let sizes: Vec<u32> = std::env::var("SPAR_BENCH_SIZES")
@@ -34,8 +41,10 @@ fn main() {
         "calcite-polarized",
     ];
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
-    println!("| scene | size | spp | depth | prune | time (s) | rays | M rays/s | nodes | nodes/camera ray |");
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!(
+        "| scene | size | spp | depth | prune | time (s) | CPU (s) | rays | M rays/s | nodes | nodes/camera ray |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for size in &sizes {
         for name in scenes {
             let mut scene =
@@ -44,13 +53,14 @@ fn main() {
             let built = prepare::accel(&scene, accel, rayon::current_num_threads(), None)
                 .expect("the seed scene's intersector builds");
             let options = prepare::options(&scene, &[OutputMode::Color], 580.0, false);
-            let t0 = Instant::now();
+            let (t0, c0) = (Instant::now(), support::cpu_seconds());
             let (_, stats) = render(&scene, built.as_ref(), &options);
             let secs = t0.elapsed().as_secs_f64();
+            let cpu = support::cpu_seconds() - c0;
             let camera_rays =
                 (*size as u64).pow(2) * scene.samples as u64 * options.lambdas.len() as u64;
             println!(
-                "| {name} | {size}² | {} | {} | {:e} | {secs:.2} | {} | {:.2} | {} | {:.1} |",
+                "| {name} | {size}² | {} | {} | {:e} | {secs:.2} | {cpu:.2} | {} | {:.2} | {} | {:.1} |",
                 scene.samples,
                 scene.settings.max_depth,
                 scene.settings.prune,
