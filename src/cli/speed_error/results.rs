@@ -183,7 +183,9 @@ pub fn csv(results: &[Measured], modes: &[Measure]) -> String {
     }
     header.extend(modes.iter().map(|m| format!("{}_pareto", m.name())));
     let fronts = fronts(results, modes.len());
-    let mut rows = Vec::new();
+    let mut w = csv::WriterBuilder::new()
+        .quote_style(csv::QuoteStyle::NonNumeric)
+        .from_writer(Vec::new());
     for (i, r) in results.iter().enumerate() {
         let mut row = vec![
             r.config.label.clone(),
@@ -194,13 +196,7 @@ pub fn csv(results: &[Measured], modes: &[Measure]) -> String {
             row.extend([e.rmse, e.max, e.net].map(|v| format!("{v:.6e}")));
         }
         row.extend(fronts.iter().map(|f| (f.contains(&i) as u8).to_string()));
-        rows.push(row);
-    }
-    let mut w = csv::WriterBuilder::new()
-        .quote_style(csv::QuoteStyle::NonNumeric)
-        .from_writer(Vec::new());
-    for row in &rows {
-        w.write_record(row).expect("writing CSV into memory");
+        w.write_record(&row).expect("writing CSV into memory");
     }
     let bytes = w.into_inner().expect("writing CSV into memory");
     // The header unquoted (its names need no quotes), as it always was.
