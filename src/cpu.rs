@@ -4,7 +4,7 @@
 //! On x86-64, spar is built for x86-64-v3 by default (`.cargo/config.toml`:
 //! AVX2, FMA, BMI1/2, F16C, LZCNT, MOVBE: every x86-64 CPU since Intel
 //! Haswell, 2013, and AMD Excavator, 2015). The renderer's f64 optics then
-//! take 8–13 % less CPU (docs/speed-vs-error.md, "Built for x86-64-v3")
+//! take 8–13 % less CPU (docs/speed-error/HISTORY.md, "Built for x86-64-v3")
 //! and write the same images bit for bit, since Rust never
 //! fuses a multiply and an add by itself. On an older CPU such a build
 //! would die on its first AVX instruction with "Illegal instruction"; the
