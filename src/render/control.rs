@@ -93,14 +93,12 @@ impl ControlVariate {
     }
 }
 
-/// One colour wavelength's Stokes parameters from one sample: `y` from the
-/// single wavelength's paths, `traced` its own value with hero sampling's
-/// weight `w` when the sample traced it.
-pub fn corrected(y: [f64; 4], traced: Option<([f64; 4], f64)>) -> [f64; 4] {
-    match traced {
-        None => y,
-        Some((l, w)) => std::array::from_fn(|c| y[c] + w * (l[c] - y[c])),
-    }
+/// A traced colour wavelength's Stokes parameters from one sample: `y`
+/// from the single wavelength's paths, corrected by its own value `l` with
+/// hero sampling's weight `w` (a wavelength the sample did not trace adds
+/// `y` alone).
+pub fn corrected(y: [f64; 4], l: [f64; 4], w: f64) -> [f64; 4] {
+    std::array::from_fn(|c| y[c] + w * (l[c] - y[c]))
 }
 
 #[cfg(test)]
@@ -110,6 +108,16 @@ mod tests {
     /// The estimator's mean over every assignment of samples to strata is
     /// the plain hero estimator's, for any `y`: a sum written out by hand
     /// over two strata of two samples each.
+    /// What sample `s` adds: corrected where it traces the wavelength
+    /// (weight 2), `y` alone where it does not.
+    fn add(y: [f64; 4], l: [f64; 4], traced: bool) -> [f64; 4] {
+        if traced {
+            corrected(y, l, 2.0)
+        } else {
+            y
+        }
+    }
+
     #[test]
     fn the_correction_keeps_the_mean_for_any_y() {
         // Two samples, two strata, each stratum traced by one sample with
@@ -120,14 +128,7 @@ mod tests {
         // way round. The plain estimator: 2·L(s) of the tracing sample.
         for tracer in 0..2 {
             let sum: Vec<f64> = (0..4)
-                .map(|c| {
-                    (0..2)
-                        .map(|s| {
-                            let t = (s == tracer).then_some((l[s], 2.0));
-                            corrected(y[s], t)[c]
-                        })
-                        .sum()
-                })
+                .map(|c| (0..2).map(|s| add(y[s], l[s], s == tracer)[c]).sum())
                 .collect();
             for c in 0..4 {
                 let plain = 2.0 * l[tracer][c];
@@ -138,20 +139,14 @@ mod tests {
         // Averaged over which sample traces it: (L0 + L1), the plain mean.
         for c in 0..4 {
             let mean: f64 = (0..2)
-                .map(|tracer| {
-                    (0..2)
-                        .map(|s| corrected(y[s], (s == tracer).then_some((l[s], 2.0)))[c])
-                        .sum::<f64>()
-                })
+                .map(|tracer| (0..2).map(|s| add(y[s], l[s], s == tracer)[c]).sum::<f64>())
                 .sum::<f64>()
                 / 2.0;
             assert!((mean - (l[0][c] + l[1][c])).abs() < 1e-12);
         }
         // Where y is L, every assignment gives the full sum.
         for tracer in 0..2 {
-            let s: f64 = (0..2)
-                .map(|s| corrected(l[s], (s == tracer).then_some((l[s], 2.0)))[0])
-                .sum();
+            let s: f64 = (0..2).map(|s| add(l[s], l[s], s == tracer)[0]).sum();
             assert_eq!(s, 4.0);
         }
     }

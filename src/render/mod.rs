@@ -203,8 +203,11 @@ fn stratum_importance(
 /// Empty batches are dropped.
 type Batches = Vec<Vec<(Vec<usize>, Vec<WavelengthMedia>)>>;
 
-fn batches_by_stratum(scene: &Scene, opts: &RenderOptions, stride: usize) -> Batches {
-    let groups = geometry_groups(scene, opts);
+fn batches_by_stratum(
+    groups: &[(Vec<usize>, Vec<WavelengthMedia>)],
+    opts: &RenderOptions,
+    stride: usize,
+) -> Batches {
     (0..=stride)
         .map(|stratum| {
             groups
@@ -380,11 +383,18 @@ pub fn render_part(
     let colour = opts.colour_lambdas.min(opts.lambdas.len());
     let spectral = opts.approx.spectral;
     let stride = spectral.stride(colour);
-    let batches = batches_by_stratum(scene, opts, stride);
+    let groups = geometry_groups(scene, opts);
+    let batches = batches_by_stratum(&groups, opts, stride);
+    let variate = if spectral.plain {
+        None
+    } else {
+        control::ControlVariate::new(&groups, &batches, colour, opts.lambdas.len(), stride)
+    };
     // Every wavelength in one batch, for hero samples whose camera ray
     // meets no object (below): media differ only where a ray meets one.
-    let every: Batches = if stride > 1 {
-        let (idx, media) = batches_by_stratum(scene, opts, 1)
+    // (With the control variate its batch holds them all.)
+    let every: Batches = if stride > 1 && variate.is_none() {
+        let (idx, media) = batches_by_stratum(&groups, opts, 1)
             .swap_remove(0)
             .into_iter()
             .flat_map(|(i, m)| i.into_iter().zip(m))
@@ -392,17 +402,6 @@ pub fn render_part(
         vec![vec![(idx, media)]]
     } else {
         Vec::new()
-    };
-    let variate = if spectral.plain {
-        None
-    } else {
-        control::ControlVariate::new(
-            &geometry_groups(scene, opts),
-            &batches,
-            colour,
-            opts.lambdas.len(),
-            stride,
-        )
     };
     let tracer = Tracer::new(scene, accel, opts.tree).with_strategy(opts.approx.strategy);
     // Sum each sample as it is where one sample alone may be unphysical
@@ -499,14 +498,16 @@ pub fn render_part(
             // weighing as if every colour sample traced it (the pixel's
             // value split by where its camera ray goes, each part
             // estimated from its own samples: docs/physics.md §6.3).
-            let (set, colour_weight) = if stride > 1 && sample < traced && hit.meets_no_object() {
-                (&every[0], most as f64 / traced as f64)
-            } else if stratum < stride {
-                (&batches[stratum], strata.weight(traced, most, stratum))
-            } else {
+            // (`every` is empty without hero sampling, and with the control
+            // variate, which does not use `set`.)
+            let (set, colour_weight) = match every.first() {
+                Some(all) if sample < traced && hit.meets_no_object() => {
+                    (all, most as f64 / traced as f64)
+                }
+                _ if stratum < stride => (&batches[stratum], strata.weight(traced, most, stratum)),
                 // No colour on this sample (`/N`): its batches hold only a
                 // single-wavelength mode's wavelength, which weighs 1.
-                (&batches[stratum], 1.0)
+                _ => (&batches[stratum], 1.0),
             };
             let stokes = |j: &Coherence| {
                 let j = match &camera.analyzer {
@@ -544,7 +545,7 @@ pub fn render_part(
                             let out = &mut out[..idx.len()];
                             tracer.trace_camera_from(&hit, [bx, by], batch, &key, out, stats);
                             for (&i, j) in idx.iter().zip(out.iter()) {
-                                put(v, i, control::corrected(ys[i], Some((stokes(j), w))));
+                                put(v, i, control::corrected(ys[i], stokes(j), w));
                             }
                         }
                     }
